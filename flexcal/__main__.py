@@ -1,0 +1,5 @@
+import sys
+
+from flexcal.cli import main
+
+sys.exit(main())

@@ -1,0 +1,1 @@
+"""Pairing photos with readings, fitting and validating the calibration models."""

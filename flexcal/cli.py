@@ -1,0 +1,90 @@
+"""The ``flexcal`` command: thin argument parsing around the library."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from flexcal import __version__
+from flexcal.errors import FlexcalError
+
+
+def parse_angles(text: str) -> tuple[float, ...]:
+    """``start:stop:step`` (stop included) or a comma list, in degrees."""
+    try:
+        if ":" in text:
+            parts = [float(x) for x in text.split(":")]
+            if len(parts) != 3 or parts[2] <= 0:
+                raise ValueError
+            start, stop, step = parts
+            n = int(round((stop - start) / step))
+            if n < 0:
+                raise ValueError
+            return tuple(round(start + i * step, 9) for i in range(n + 1))
+        return tuple(float(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not an angle list; write start:stop:step (e.g. 0:90:10) or a comma list (e.g. 0,30,60)"
+        ) from None
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``WIDTHxHEIGHT`` in pixels, returned as (height, width)."""
+    try:
+        w, h = (int(x) for x in text.lower().split("x"))
+        if w < 16 or h < 16:
+            raise ValueError
+        return h, w
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an image size; write WIDTHxHEIGHT, e.g. 1280x960") from None
+
+
+def cmd_render(args) -> int:
+    from pathlib import Path
+
+    from flexcal.synthetic.trial import write_experiment
+
+    out = Path(args.out)
+    if out.exists() and any(out.iterdir()) and not args.force:
+        raise FlexcalError(f"--out {out}: folder is not empty; choose a new folder or add --force to write into it")
+    summary = write_experiment(out, trials=args.trials, angles_deg=args.angles, difficulty=args.difficulty,
+                               seed=args.seed, shape=args.size, jpeg_quality=args.jpeg_quality)
+    n = sum(t["photos"] for t in summary["trials"])
+    print(f"wrote {len(summary['trials'])} trial folder(s) with {n} photos and pressure.csv to {out}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="flexcal", description="Calibrate a flex-sensor glove from photos and serial logs.")
+    parser.add_argument("--version", action="version", version=f"flexcal {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("render", help="write a synthetic experiment (trial folders + pressure.csv) with known truth")
+    p.add_argument("--out", required=True, help="folder to write (must be new or empty unless --force)")
+    p.add_argument("--trials", type=int, default=5, help="number of trials (default 5)")
+    p.add_argument("--angles", type=parse_angles, default=tuple(range(0, 91, 10)),
+                   help="step angles in degrees, start:stop:step or a comma list (default 0:90:10)")
+    p.add_argument("--difficulty", choices=["clean", "realistic", "hard"], default="realistic")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--size", type=parse_size, default=(960, 1280), help="photo size WIDTHxHEIGHT (default 1280x960)")
+    p.add_argument("--jpeg-quality", type=int, default=90, choices=range(1, 101), metavar="1..100")
+    p.add_argument("--force", action="store_true", help="write into a non-empty folder")
+    p.set_defaults(func=cmd_render)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except FlexcalError as e:
+        print(f"flexcal {args.command}: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"flexcal {args.command}: interrupted; files written so far are kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Bend-angle measurement in side-view photos."""
