@@ -1,0 +1,516 @@
+"""Bend angle at the knuckle from a side-view photo.
+
+Method ``contour`` (geometry only, no colours or shapes of a particular renderer):
+
+1. segment the hand-and-finger silhouette (``segment.py``);
+2. walk its outline from the fingertip (the outline point farthest from where the
+   hand leaves the picture) back to the picture's edge, along both sides;
+3. pair each point of one side with the nearest point of the other: the midpoints are
+   the finger's and hand's midline, their distances the local width;
+4. a breakpoint search along the midline finds the knuckle: the point, within the
+   anatomical range of 3 to 7 finger widths from the tip, that best splits the
+   midline into two straight arms (windows on either side leave out the rounded
+   knuckle and stop short of the next joint);
+5. straight lines fitted (robustly) to each arm's edges on both sides; each arm's
+   axis is the bisector of its two edges, so a tapered finger is measured along its
+   middle; the bend is the angle between the axes, the vertex their intersection.
+
+The uncertainty combines the line fits' statistical errors (inflated for correlated
+residuals along an edge), the spread of the answer when the knuckle is moved within
+its likely range, and a floor for what the method cannot resolve.
+
+Method ``markers``: three coloured dots on the finger (proximal, joint, distal); the
+joint dot is the one opposite the triangle's longest side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from scipy.spatial import cKDTree
+
+from flexcal.vision.segment import segment_finger
+
+METHODS = ("auto", "contour", "markers")
+WORK_SIZE = 640            # long side of the working resolution, pixels
+UNC_FLOOR_DEG = 0.25
+OK_CONFIDENCE = 0.6
+MIN_CONFIDENCE = 0.3
+
+
+@dataclass
+class Arm:
+    """A fitted arm: a point on its axis and the unit direction pointing away from the vertex."""
+
+    point: np.ndarray
+    direction: np.ndarray
+    length_px: float
+
+    def segment(self, vertex):
+        return np.asarray(vertex), np.asarray(vertex) + self.direction * self.length_px
+
+
+@dataclass
+class AngleMeasurement:
+    """Result of ``measure_angle``. Coordinates in pixels of the input image."""
+
+    angle_deg: float = float("nan")
+    angle_unc_deg: float = float("nan")
+    confidence: float = 0.0
+    status: str = "failed"
+    reason: str = ""
+    method: str = ""
+    vertex: tuple = (float("nan"), float("nan"))
+    proximal: Arm | None = None
+    distal: Arm | None = None
+    details: dict = field(default_factory=dict)
+
+    def __bool__(self):
+        return self.status != "failed"
+
+    def row(self) -> dict:
+        """The angles-table fields (DESIGN.md) of this measurement."""
+        return dict(angle_deg=self.angle_deg, angle_unc_deg=self.angle_unc_deg, confidence=self.confidence,
+                    status=self.status, reason=self.reason, method=self.method,
+                    vertex_x=self.vertex[0], vertex_y=self.vertex[1])
+
+
+def failed(reason: str, method: str = "") -> AngleMeasurement:
+    return AngleMeasurement(reason=reason, method=method)
+
+
+# --------------------------------------------------------------------------- input
+
+def as_bgr8(image) -> np.ndarray:
+    """Any 2-D grey or 3/4-channel image, uint8 / uint16 / float, as BGR uint8."""
+    img = np.asarray(image)
+    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (1, 3, 4)):
+        raise ValueError(f"image must be a (H, W) grey or (H, W, 3|4) colour array, got shape {img.shape}")
+    if img.dtype == np.uint16:
+        img = (img / 257.0 + 0.5).astype(np.uint8)
+    elif img.dtype.kind == "f":
+        top = 1.0 if np.nanmax(img) <= 1.0 else 255.0
+        img = np.clip(np.nan_to_num(img) / top * 255 + 0.5, 0, 255).astype(np.uint8)
+    elif img.dtype == bool:
+        img = img.astype(np.uint8) * 255
+    elif img.dtype != np.uint8:
+        raise ValueError(f"image dtype must be uint8, uint16, float or bool, got {img.dtype}")
+    if img.ndim == 2 or img.shape[2] == 1:
+        img = cv2.cvtColor(img.reshape(img.shape[:2]), cv2.COLOR_GRAY2BGR)
+    elif img.shape[2] == 4:
+        img = cv2.cvtColor(img, cv2.COLOR_BGRA2BGR)
+    return np.ascontiguousarray(img)
+
+
+# --------------------------------------------------------------------------- geometry helpers
+
+def _fit_line(pts, weights=None):
+    """Total least squares line: (centroid, unit direction, residuals)."""
+    if weights is None:
+        weights = np.ones(len(pts))
+    c = (pts * weights[:, None]).sum(0) / weights.sum()
+    q = (pts - c) * np.sqrt(weights)[:, None]
+    _, _, vt = np.linalg.svd(q, full_matrices=False)
+    d = vt[0]
+    n = np.array([-d[1], d[0]])
+    return c, d, (pts - c) @ n
+
+
+def _robust_line(pts, iters=4):
+    """Line fit with Tukey-biweight reweighting (tape, bumps and wires become outliers)."""
+    w = np.ones(len(pts))
+    c, d, r = _fit_line(pts, w)
+    for _ in range(iters):
+        s = 1.4826 * np.median(np.abs(r)) + 1e-3
+        u = r / (4.685 * s)
+        w = np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
+        if w.sum() < 5:
+            break
+        c, d, r = _fit_line(pts, w)
+    return c, d, r, w
+
+
+def _line_dir_se(pts, resid, weights, corr_len):
+    """Standard error (rad) of a fitted line's direction, residuals correlated over corr_len px."""
+    m = weights > 0
+    if m.sum() < 4:
+        return np.inf
+    t = pts[m] - pts[m].mean(0)
+    _, _, vt = np.linalg.svd(t, full_matrices=False)
+    along = t @ vt[0]
+    s = np.sqrt(np.sum(weights[m] * resid[m] ** 2) / max(1.0, weights[m].sum() - 2))
+    spacing = (along.max() - along.min()) / max(1, m.sum() - 1)
+    inflate = np.sqrt(max(1.0, corr_len / max(spacing, 1e-6)))
+    return s / np.sqrt(np.sum(along ** 2)) * inflate
+
+
+def _resample(chain, step=1.0):
+    seg = np.linalg.norm(np.diff(chain, axis=0), axis=1)
+    s = np.concatenate([[0], np.cumsum(seg)])
+    if s[-1] < 2 * step:
+        return chain, s
+    t = np.arange(0, s[-1], step)
+    return np.column_stack([np.interp(t, s, chain[:, 0]), np.interp(t, s, chain[:, 1])]), t
+
+
+def _outline_chains(mask):
+    """The two sides of the silhouette, each from the fingertip to the picture's edge."""
+    h, w = mask.shape
+    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    if not cs:
+        return None, "the silhouette has no outline"
+    c = max(cs, key=len).reshape(-1, 2).astype(float)
+    on_border = (c[:, 0] <= 0.5) | (c[:, 1] <= 0.5) | (c[:, 0] >= w - 1.5) | (c[:, 1] >= h - 1.5)
+    if not on_border.any():
+        return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
+    # rotate the loop so that it starts just after a run of border points
+    n = len(c)
+    idx = np.nonzero(on_border)[0]
+    free = ~on_border
+    # the longest run of free (non-border) points is the outline of hand and finger
+    runs, start = [], None
+    for i in range(2 * n):
+        f = free[i % n]
+        if f and start is None:
+            start = i
+        if (not f or i == 2 * n - 1) and start is not None:
+            runs.append((start, i))
+            start = None
+    runs = [(a, b) for a, b in runs if a < n]
+    a, b = max(runs, key=lambda r: r[1] - r[0])
+    chain = c[np.arange(a, b) % n]
+    if len(chain) < 40:
+        return None, "the silhouette is too small to measure"
+    ends_mid = (chain[0] + chain[-1]) / 2
+    tip = int(np.argmax(np.linalg.norm(chain - ends_mid, axis=1)))
+    side_a = chain[: tip + 1][::-1]   # tip -> edge
+    side_b = chain[tip:]              # tip -> edge
+    del idx
+    return (side_a, side_b), ""
+
+
+def _midline(side_a, side_b):
+    """Midline of the silhouette from pairs of facing outline points.
+
+    Every point of each side is paired with the nearest point of the other side; the
+    pair's midpoint lies on the midline and its distance is the local width. Pairs are
+    ordered by their mean arclength from the tip, which for a bent tube is the
+    arclength of its centre line.
+
+    Returns (midpoints, widths, s, side_a, side_b), sides resampled at 1 px.
+    """
+    a, sa = _resample(side_a)
+    b, sb = _resample(side_b)
+    da, ja = cKDTree(b).query(a)
+    db, jb = cKDTree(a).query(b)
+    mid = np.vstack([(a + b[ja]) / 2, (b + a[jb]) / 2])
+    width = np.concatenate([da, db])
+    s = np.concatenate([(sa + sb[ja]) / 2, (sb + sa[jb]) / 2])
+    order = np.argsort(s, kind="stable")
+    return mid[order], width[order], s[order], a, b
+
+
+def _arm_window(mid, s, lo, hi):
+    m = (s >= lo) & (s <= hi)
+    return mid[m]
+
+
+def _split_score(mid, s, b, wf, fin_win, hand_win):
+    """Straightness (mean squared residual, px^2) of the two windows around a knuckle at b,
+    and the turn (deg) between them."""
+    pf = _arm_window(mid, s, b - fin_win[1] * wf, b - fin_win[0] * wf)
+    ph = _arm_window(mid, s, b + hand_win[0] * wf, b + hand_win[1] * wf)
+    if len(pf) < 8 or len(ph) < 8:
+        return np.inf, np.nan
+    _, df, rf = _fit_line(pf)
+    _, dh, rh = _fit_line(ph)
+    # both oriented towards the tip (points are in increasing s, away from the tip)
+    df = df if np.dot(df, pf[0] - pf[-1]) > 0 else -df
+    dh = dh if np.dot(dh, ph[0] - ph[-1]) > 0 else -dh
+    return (np.mean(rf ** 2) + np.mean(rh ** 2)), _bend(dh, df)
+
+
+FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
+HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
+KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
+
+
+def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
+    c = np.clip(np.dot(d_hand_towards_knuckle, d_finger_from_knuckle), -1, 1)
+    return float(np.degrees(np.arccos(c)))
+
+
+def _intersect(p1, d1, p2, d2):
+    A = np.column_stack([d1, -d2])
+    if abs(np.linalg.det(A)) < 1e-6:
+        return None
+    t = np.linalg.solve(A, p2 - p1)
+    return p1 + t[0] * d1
+
+
+def _measure_contour(bgr):
+    h0, w0 = bgr.shape[:2]
+    f = min(1.0, WORK_SIZE / max(h0, w0))
+    work = cv2.resize(bgr, (int(round(w0 * f)), int(round(h0 * f))), interpolation=cv2.INTER_AREA) if f < 1 else bgr
+    seg = segment_finger(work)
+    if seg.mask is None:
+        return failed(seg.reason, "contour")
+    chains, why = _outline_chains(seg.mask)
+    if chains is None:
+        return failed(why, "contour")
+    side_a, side_b = chains
+    mid, width, s, a_pts, b_pts = _midline(side_a, side_b)
+    total = s[-1]
+    # the finger is the narrow part: its width is a low percentile of the width profile
+    valid = (s > 0.05 * total)
+    if valid.sum() < 20:
+        return failed("the silhouette is too small to measure", "contour")
+    # the finger's width is taken near the tip (the hand is wider and may dominate the
+    # outline): a fixed point of "median width between 0.8 and 2.5 widths from the tip"
+    wf = float(np.percentile(width[valid], 30))
+    for _ in range(4):
+        near = (s > 0.8 * wf) & (s < 2.5 * wf)
+        if near.sum() < 5:
+            break
+        wf = float(np.median(width[near]))
+    if wf < 4:
+        return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
+    lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
+    if hi <= lo:
+        return failed("too little of the hand is in the picture to measure its direction", "contour")
+    cands = np.arange(lo, hi, max(1.0, 0.05 * wf))
+    scores, turns = [], []
+    for b in cands:
+        sc, turn = _split_score(mid, s, b, wf, FIN_WIN, (HAND_WIN[0], min(HAND_WIN[1], (total - b) / wf)))
+        scores.append(sc)
+        turns.append(turn)
+    scores, turns = np.array(scores), np.array(turns)
+    if not np.isfinite(scores).any():
+        return failed("could not find two straight arms in the silhouette", "contour")
+    # Both windows straight (low residual) at many places; the knuckle is the place among
+    # those where the direction turns most: the bend lies in the gap between the windows.
+    best = np.nanmin(scores)
+    feasible = scores <= 2 * best + 0.02
+    top = np.nanmax(np.where(feasible, turns, -np.inf))
+    plateau = feasible & (turns >= top - max(0.3, 0.02 * top))
+    b = float(np.median(cands[plateau]))   # the middle of the run of equally good places
+
+    mtree = cKDTree(mid)
+    near_a = mtree.query(a_pts)[1]
+    near_b = mtree.query(b_pts)[1]
+
+    def arms_at(bk):
+        hand_hi = min(HAND_WIN[1], (total - bk) / wf)
+        # finger and hand edge points inside each window, both sides
+        res = []
+        for win, sign in ((FIN_WIN, -1), ((HAND_WIN[0], hand_hi), +1)):
+            lo_s, hi_s = (bk - win[1] * wf, bk - win[0] * wf) if sign < 0 else (bk + win[0] * wf, bk + win[1] * wf)
+            sel = (s >= lo_s) & (s <= hi_s)
+            if sel.sum() < 8:
+                return None
+            pm = mid[sel]
+            cm, dm, _ = _fit_line(pm)
+            # the outline points whose nearest midline point lies in this window
+            edges = []
+            for side, near in ((a_pts, near_a), (b_pts, near_b)):
+                m = (s[near] >= lo_s) & (s[near] <= hi_s)
+                if m.sum() < 8:
+                    return None
+                c_e, d_e, r_e, w_e = _robust_line(side[m])
+                if np.dot(d_e, dm) < 0:
+                    d_e = -d_e
+                se = _line_dir_se(side[m], r_e, w_e, corr_len=0.5 * wf)
+                edges.append((c_e, d_e, se, r_e, w_e))
+            d_axis = edges[0][1] + edges[1][1]
+            d_axis /= np.linalg.norm(d_axis)
+            c_axis = (edges[0][0] + edges[1][0]) / 2
+            se_axis = 0.5 * np.hypot(edges[0][2], edges[1][2])
+            taper = np.degrees(np.arccos(np.clip(np.dot(edges[0][1], edges[1][1]), -1, 1)))
+            # direction pointing along increasing s: finger: towards the knuckle; hand: towards the wrist
+            if np.dot(d_axis, pm[-1] - pm[0]) < 0:
+                d_axis = -d_axis
+            outlier_share = float(np.mean([1 - np.mean(e[4] > 0.05) for e in edges]))
+            res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
+                            length=(hi_s - lo_s)))
+        return res
+
+    arms = arms_at(b)
+    if arms is None:
+        return failed("the arms are too short to fit lines to", "contour")
+    fin, hand = arms
+    d_f_out = -fin["d"]      # from the knuckle towards the tip
+    d_h_in = -hand["d"]      # from the wrist towards the knuckle
+    angle = _bend(d_h_in, d_f_out)
+    # sensitivity to where the knuckle is placed
+    alt = []
+    for db in (-0.3 * wf, 0.3 * wf):
+        r = arms_at(b + db)
+        if r is not None:
+            alt.append(_bend(-r[1]["d"], -r[0]["d"]))
+    spread = (max(alt) - min(alt)) / 2 if len(alt) == 2 else 2.0
+    stat = np.degrees(np.hypot(fin["se"], hand["se"]))
+    unc = float(np.sqrt(stat ** 2 + (0.5 * spread) ** 2 + UNC_FLOOR_DEG ** 2))
+    vtx = _intersect(fin["c"], fin["d"], hand["c"], hand["d"]) if angle > 4 else None
+    if vtx is None or np.linalg.norm(vtx - mid[min(len(mid) - 1, np.searchsorted(s, b))]) > 2 * wf:
+        vtx = mid[min(len(mid) - 1, np.searchsorted(s, b))]
+    # confidence: contrast, straightness of the edges, plausible taper, robustness to the knuckle's place
+    conf = 1.0
+    reasons = []
+    if seg.contrast < 12:
+        conf *= seg.contrast / 12
+        reasons.append("weak contrast between finger and background")
+    worst_taper = max(fin["taper"], hand["taper"])
+    if worst_taper > 6:
+        conf *= max(0.0, 1 - (worst_taper - 6) / 10)
+        reasons.append(f"the edges of an arm are not parallel ({worst_taper:.0f} deg apart)")
+    outl = max(fin["outliers"], hand["outliers"])
+    if outl > 0.3:
+        conf *= max(0.0, 1 - (outl - 0.3) / 0.5)
+        reasons.append("much of an arm's outline is not straight")
+    if unc > 2.0:
+        conf *= max(0.0, 1 - (unc - 2.0) / 4.0)
+        reasons.append(f"the angle depends on where the knuckle is placed (+-{unc:.1f} deg)")
+    conf = float(np.clip(conf, 0, 1))
+    inv = 1.0 / f
+    meas = AngleMeasurement(
+        angle_deg=angle, angle_unc_deg=unc, confidence=conf, method="contour",
+        vertex=(float(vtx[0] * inv), float(vtx[1] * inv)),
+        proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
+        distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
+        details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=seg.contrast,
+                     taper_deg=worst_taper, spread_deg=spread),
+    )
+    return _grade(meas, reasons)
+
+
+def _grade(meas: AngleMeasurement, reasons) -> AngleMeasurement:
+    if meas.confidence >= OK_CONFIDENCE:
+        meas.status, meas.reason = "ok", ""
+    elif meas.confidence >= MIN_CONFIDENCE:
+        meas.status, meas.reason = "low_confidence", "; ".join(reasons)
+    else:
+        meas.status = "failed"
+        meas.reason = "; ".join(reasons) or "not confident"
+        meas.angle_deg = meas.angle_unc_deg = float("nan")
+    return meas
+
+
+# --------------------------------------------------------------------------- markers
+
+def find_markers(bgr, *, min_saturation=120, max_dots=12):
+    """Centres (x, y) and radii of small, round, strongly coloured dots."""
+    h0, w0 = bgr.shape[:2]
+    hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
+    sat = (hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60)
+    n, comp, stats, cents = cv2.connectedComponentsWithStats(sat.astype(np.uint8), connectivity=8)
+    dots = []
+    min_area = max(6, 1e-5 * h0 * w0)
+    for i in range(1, n):
+        a = stats[i, cv2.CC_STAT_AREA]
+        bw, bh = stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
+        if a < min_area or a > 0.002 * h0 * w0:
+            continue
+        fill = a / (np.pi / 4 * bw * bh)
+        if not (0.7 < bw / max(bh, 1) < 1.4 and fill > 0.75):
+            continue
+        # the centroid of the saturation-weighted blob is sub-pixel
+        x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
+        patch = (comp[y0:y0 + bh, x0:x0 + bw] == i) * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
+        yy, xx = np.mgrid[0:bh, 0:bw]
+        cx, cy = (patch * xx).sum() / patch.sum() + x0, (patch * yy).sum() / patch.sum() + y0
+        dots.append((cx, cy, np.sqrt(a / np.pi)))
+    return dots[:max_dots]
+
+
+def _measure_markers(bgr):
+    dots = find_markers(bgr)
+    if len(dots) != 3:
+        return failed(f"found {len(dots)} marker dots, need exactly 3 (proximal, joint, distal)", "markers")
+    p = np.array([d[:2] for d in dots])
+    r = np.mean([d[2] for d in dots])
+    sides = [np.linalg.norm(p[(i + 1) % 3] - p[(i + 2) % 3]) for i in range(3)]
+    j = int(np.argmax(sides))          # the joint dot is opposite the longest side
+    a, b = p[(j + 1) % 3], p[(j + 2) % 3]
+    va, vb = a - p[j], b - p[j]
+    if min(np.linalg.norm(va), np.linalg.norm(vb)) < 4 * r:
+        return failed("the marker dots are too close together to measure an angle", "markers")
+    interior = np.degrees(np.arccos(np.clip(np.dot(va, vb) / np.linalg.norm(va) / np.linalg.norm(vb), -1, 1)))
+    # centroid precision ~ 0.05 px per radius-normalised blob; propagate to the angle
+    sig_pos = 0.1
+    unc = float(np.degrees(np.sqrt(2) * sig_pos * np.sqrt(1 / np.linalg.norm(va) ** 2 + 1 / np.linalg.norm(vb) ** 2)))
+    unc = float(np.hypot(unc, 0.1))
+    # which arm is proximal is not known from dots alone; it does not change the angle
+    return AngleMeasurement(
+        angle_deg=float(180 - interior), angle_unc_deg=unc, confidence=0.95, status="ok", method="markers",
+        vertex=(float(p[j][0]), float(p[j][1])),
+        proximal=Arm(a, va / np.linalg.norm(va), float(np.linalg.norm(va))),
+        distal=Arm(b, vb / np.linalg.norm(vb), float(np.linalg.norm(vb))),
+    )
+
+
+# --------------------------------------------------------------------------- API
+
+def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
+    """Measure the bend angle at the knuckle in a side-view photo.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, 3|4) ndarray
+        Grey or BGR(A), uint8, uint16 or float. Any size and orientation.
+    roi : (x, y, w, h) or None
+        Only look inside this rectangle (pixels). The hand must leave the rectangle
+        through one of its sides.
+    method : {'auto', 'contour', 'markers'}
+        'markers' needs three coloured dots on the finger; 'auto' uses them when exactly
+        three are found and the outline otherwise.
+
+    Returns
+    -------
+    AngleMeasurement
+        ``angle_deg`` (bend: 0 = straight, flexion positive), ``angle_unc_deg`` (1 sigma),
+        ``confidence`` in [0, 1], ``status`` ('ok', 'low_confidence', 'failed'), ``reason``,
+        ``vertex`` and the two arms, in the input image's pixels. A measurement that
+        failed is falsy and has NaN angle; it never raises for a bad picture.
+
+    Examples
+    --------
+    >>> from flexcal.synthetic import render_finger
+    >>> img, truth = render_finger(40, rng=1)
+    >>> m = measure_angle(img)
+    >>> m.status, abs(m.angle_deg - 40) < 1
+    ('ok', True)
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    try:
+        bgr = as_bgr8(image)
+    except ValueError as e:
+        return failed(str(e), method)
+    ox = oy = 0
+    if roi is not None:
+        x, y, w, h = (int(round(v)) for v in roi)
+        if w <= 0 or h <= 0 or x < 0 or y < 0 or x + w > bgr.shape[1] or y + h > bgr.shape[0]:
+            raise ValueError(f"roi {tuple(roi)} does not fit inside the {bgr.shape[1]}x{bgr.shape[0]} image; "
+                             "give x,y,w,h inside it")
+        bgr, ox, oy = bgr[y:y + h, x:x + w], x, y
+    if min(bgr.shape[:2]) < 32:
+        return failed(f"image is too small ({bgr.shape[1]}x{bgr.shape[0]} px); need at least 32 px each way", method)
+    if float(bgr.std()) < 1.0:
+        return failed("the picture is blank (one flat colour: all black, all white or a lens cap)", method)
+    if method in ("auto", "markers"):
+        m = _measure_markers(bgr)
+        if m or method == "markers":
+            return _shift(m, ox, oy)
+    return _shift(_measure_contour(bgr), ox, oy)
+
+
+def _shift(m: AngleMeasurement, ox, oy) -> AngleMeasurement:
+    if ox or oy:
+        off = np.array([ox, oy], float)
+        m.vertex = (m.vertex[0] + ox, m.vertex[1] + oy)
+        for arm in (m.proximal, m.distal):
+            if arm is not None:
+                arm.point = arm.point + off
+    return m

@@ -1,0 +1,139 @@
+"""Find the hand-and-finger silhouette in a photo.
+
+The scene model is deliberately weak, so that it holds for real photos: the finger and
+hand form one connected region of similar colour that enters the picture from an edge
+(the forearm is cut by the frame) and is elongated (several times longer than wide);
+the background (wall, platform) consists of large regions that occupy much of the
+picture's border. Colours are clustered with k-means on chromaticity and a damped log
+intensity (so that shading across the round finger and shadows on the wall do not
+split a surface); clusters
+that cover a large share of the border are background; what is left is split into
+connected parts and the most finger-like part that touches the border wins.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+_CHROMA_SCALE = 300.0
+_LIGHT_SCALE = 15.0
+_SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
+_SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
+
+
+@dataclass
+class Segmentation:
+    """The chosen silhouette at working resolution, or the reason there is none."""
+
+    mask: np.ndarray | None
+    reason: str = ""
+    contrast: float = 0.0       # feature distance between object and background colours
+    n_candidates: int = 0
+
+
+def _features(bgr):
+    """Per-pixel colour features that shading and shadows barely change.
+
+    Chromaticity (each channel's share of the sum) does not change when a surface is
+    lit more or less (the round finger's shading, a shadow on the wall); a damped log
+    intensity keeps black, grey and white things apart.
+    """
+    f = bgr.reshape(-1, 3).astype(np.float32)
+    total = f.sum(axis=1, keepdims=True) + 30.0
+    chroma = f[:, 1:] / total * _CHROMA_SCALE          # g and r shares
+    light = _LIGHT_SCALE * np.log(total / 3.0)
+    return np.hstack([chroma, light])
+
+
+def _border_pixels(shape):
+    h, w = shape
+    m = np.zeros(shape, bool)
+    m[0, :] = m[-1, :] = m[:, 0] = m[:, -1] = True
+    return m
+
+
+def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, seed: int = 0) -> Segmentation:
+    """Segment the hand and finger in a BGR uint8 image (working resolution)."""
+    h, w = bgr.shape[:2]
+    small_w = 160
+    f = small_w / w
+    small = cv2.resize(bgr, (small_w, max(8, int(round(h * f)))), interpolation=cv2.INTER_AREA)
+    feats = _features(small)
+    if small.std() < 2.0:
+        return Segmentation(None, "the picture has no contrast (blank, all black or all white)")
+    cv2.setRNGSeed(seed)
+    crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 20, 0.5)
+    _, labels_s, centres = cv2.kmeans(feats, k, None, crit, 2, cv2.KMEANS_PP_CENTERS)
+    labels_s = labels_s.reshape(small.shape[:2])
+    border = _border_pixels(labels_s.shape)
+    n_border = border.sum()
+    share = np.array([(labels_s[border] == c).sum() / n_border for c in range(k)])
+    background = share > border_share
+    # a cluster with a background cluster's chromaticity but somewhat darker is that
+    # background in shadow (a black glove on a grey wall is much darker than any shadow)
+    for c in np.nonzero(~background)[0]:
+        for bg in np.nonzero(share > border_share)[0]:
+            dchroma = np.linalg.norm(centres[c, :2] - centres[bg, :2])
+            ratio = np.exp((centres[c, 2] - centres[bg, 2]) / _LIGHT_SCALE)
+            if dchroma < _SHADOW_CHROMA and _SHADOW_RATIO[0] < ratio < _SHADOW_RATIO[1]:
+                background[c] = True
+    if background.all() or not background.any():
+        return Segmentation(None, "could not tell the finger from the background (no distinct foreground colour)")
+
+    # classify every working-resolution pixel by its nearest centre
+    fe = _features(cv2.GaussianBlur(bgr, (3, 3), 0))
+    d2 = ((fe[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
+    labels = d2.argmin(axis=1).reshape(h, w)
+    fg = (~background[labels]).astype(np.uint8)
+
+    width_guess = max(3, int(round(min(h, w) * 0.012)))
+    kern = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (width_guess, width_guess))
+    fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, kern)      # drops thin things: cables, wires
+    fg = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
+    n, comp, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
+    border_full = _border_pixels((h, w))
+    best, best_score = None, 0.0
+    candidates = 0
+    for i in range(1, n):
+        area = stats[i, cv2.CC_STAT_AREA]
+        if area < 0.004 * h * w:
+            continue
+        part = comp == i
+        touches = (part & border_full).sum()
+        if touches == 0:
+            continue
+        bw, bh = stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
+        dist = cv2.distanceTransform(part.astype(np.uint8), cv2.DIST_L2, 3)
+        r = np.percentile(dist[part], 95)
+        if r < 2:
+            continue
+        elong = area / (4 * r * r)   # length in widths, for a tube
+        if elong < 2.5 or touches > 0.35 * (h + w):
+            continue
+        candidates += 1
+        score = area * min(elong, 12) / 12
+        if score > best_score:
+            best, best_score = i, score
+    if best is None:
+        return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
+                            n_candidates=candidates)
+    mask = (comp == best).astype(np.uint8)
+    # fill holes (nail, creases, tape the colour of the background) inside the silhouette
+    filled = mask.copy()
+    ff = np.zeros((h + 2, w + 2), np.uint8)
+    inv = (1 - mask).astype(np.uint8)
+    # holes are background regions that do not reach the border
+    n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
+    for j in range(1, n2):
+        hole = comp2 == j
+        if not (hole & border_full).any() and stats2[j, cv2.CC_STAT_AREA] < 0.2 * mask.sum():
+            filled[hole] = 1
+    del ff
+    obj = labels[filled.astype(bool)]
+    fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
+    bg_centre = centres[np.argmax(share)]
+    contrast = float(np.linalg.norm(fg_centre - bg_centre))
+    return Segmentation(filled, contrast=contrast, n_candidates=candidates)
