@@ -217,24 +217,18 @@ def _arm_window(mid, s, lo, hi):
     return mid[m]
 
 
-def _split_score(mid, s, b, wf, fin_win, hand_win):
-    """Straightness (mean squared residual, px^2) of the two windows around a knuckle at b,
-    and the turn (deg) between them."""
-    pf = _arm_window(mid, s, b - fin_win[1] * wf, b - fin_win[0] * wf)
-    ph = _arm_window(mid, s, b + hand_win[0] * wf, b + hand_win[1] * wf)
-    if len(pf) < 8 or len(ph) < 8:
-        return np.inf, np.nan
-    _, df, rf = _fit_line(pf)
-    _, dh, rh = _fit_line(ph)
-    # both oriented towards the tip (points are in increasing s, away from the tip)
-    df = df if np.dot(df, pf[0] - pf[-1]) > 0 else -df
-    dh = dh if np.dot(dh, ph[0] - ph[-1]) > 0 else -dh
-    return (np.mean(rf ** 2) + np.mean(rh ** 2)), _bend(dh, df)
+def _trimmed_ms(r, keep=0.8):
+    """Mean of the smallest ``keep`` share of squared residuals (bumps such as tape or a
+    connector on the back of the hand do not make a straight arm look bent)."""
+    q = np.sort(r * r)
+    return float(q[: max(1, int(len(q) * keep))].mean())
 
 
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
-KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
+KNUCKLE_RANGE = (3.8, 8.0)
+SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
+STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths  # knuckle's distance from the tip, in finger widths
 
 
 def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
@@ -280,22 +274,28 @@ def _measure_contour(bgr):
     lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
     if hi <= lo:
         return failed("too little of the hand is in the picture to measure its direction", "contour")
-    cands = np.arange(lo, hi, max(1.0, 0.05 * wf))
-    scores, turns = [], []
+    # Breakpoint search over a fixed stretch of midline, from beyond the next joint
+    # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
+    # leaves the real bend inside one of the two straight segments.
+    span_lo, span_hi = SPAN[0] * wf, min(total, SPAN[1] * wf)
+    cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
+    scores = []
     for b in cands:
-        sc, turn = _split_score(mid, s, b, wf, FIN_WIN, (HAND_WIN[0], min(HAND_WIN[1], (total - b) / wf)))
-        scores.append(sc)
-        turns.append(turn)
-    scores, turns = np.array(scores), np.array(turns)
-    if not np.isfinite(scores).any():
+        pf = _arm_window(mid, s, span_lo, b - FIN_WIN[0] * wf)
+        ph = _arm_window(mid, s, b + HAND_WIN[0] * wf, span_hi)
+        if len(pf) < 8 or len(ph) < 8:
+            scores.append(np.inf)
+            continue
+        rf, rh = _fit_line(pf)[2], _fit_line(ph)[2]
+        scores.append(_trimmed_ms(np.concatenate([rf, rh])))
+    scores = np.array(scores)
+    if not len(scores) or not np.isfinite(scores).any():
         return failed("could not find two straight arms in the silhouette", "contour")
-    # Both windows straight (low residual) at many places; the knuckle is the place among
-    # those where the direction turns most: the bend lies in the gap between the windows.
-    best = np.nanmin(scores)
-    feasible = scores <= 2 * best + 0.02
-    top = np.nanmax(np.where(feasible, turns, -np.inf))
-    plateau = feasible & (turns >= top - max(0.3, 0.02 * top))
-    b = float(np.median(cands[plateau]))   # the middle of the run of equally good places
+    # the middle of the run of places that fit (almost) as well as the best
+    good = scores <= scores.min() + (STRAIGHT_TOL * wf) ** 2 * 0.25
+    runs = np.split(np.arange(len(cands)), np.nonzero(np.diff(good.astype(int)))[0] + 1)
+    best_run = next(r for r in runs if good[r[0]] and np.argmin(scores) in r)
+    b = float(np.median(cands[best_run]))
 
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]

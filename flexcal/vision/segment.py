@@ -55,6 +55,36 @@ def _border_pixels(shape):
     return m
 
 
+def _pick(fg, border):
+    """The most finger-like connected part of ``fg`` that touches the border.
+
+    Returns (label, labels image, number of candidates); label None when there is none.
+    """
+    h, w = fg.shape
+    n, comp, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
+    best, best_score, candidates = None, 0.0, 0
+    for i in range(1, n):
+        area = stats[i, cv2.CC_STAT_AREA]
+        if area < 0.004 * h * w:
+            continue
+        part = comp == i
+        touches = (part & border).sum()
+        if touches == 0:
+            continue
+        dist = cv2.distanceTransform(part.astype(np.uint8), cv2.DIST_L2, 3)
+        r = np.percentile(dist[part], 95)
+        if r < 2:
+            continue
+        elong = area / (4 * r * r)   # length in widths, for a tube
+        if elong < 2.5 or touches > 0.35 * (h + w):
+            continue
+        candidates += 1
+        score = area * min(elong, 12) / 12
+        if score > best_score:
+            best, best_score = i, score
+    return best, comp, candidates
+
+
 def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, seed: int = 0) -> Segmentation:
     """Segment the hand and finger in a BGR uint8 image (working resolution)."""
     h, w = bgr.shape[:2]
@@ -93,37 +123,33 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     kern = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (width_guess, width_guess))
     fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, kern)      # drops thin things: cables, wires
     fg = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
-    n, comp, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
-    border_full = _border_pixels((h, w))
-    best, best_score = None, 0.0
-    candidates = 0
-    for i in range(1, n):
-        area = stats[i, cv2.CC_STAT_AREA]
-        if area < 0.004 * h * w:
-            continue
-        part = comp == i
-        touches = (part & border_full).sum()
-        if touches == 0:
-            continue
-        bw, bh = stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
-        dist = cv2.distanceTransform(part.astype(np.uint8), cv2.DIST_L2, 3)
-        r = np.percentile(dist[part], 95)
-        if r < 2:
-            continue
-        elong = area / (4 * r * r)   # length in widths, for a tube
-        if elong < 2.5 or touches > 0.35 * (h + w):
-            continue
-        candidates += 1
-        score = area * min(elong, 12) / 12
-        if score > best_score:
-            best, best_score = i, score
+    best, comp, candidates = _pick(fg, border_full := _border_pixels((h, w)))
+    if best is not None:
+        # Bridge what crosses the finger in a background colour (tape, a strap, a
+        # highlight): close gaps up to half an arm's width, then choose again.
+        part = (comp == best).astype(np.uint8)
+        r = float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
+        d = max(3, int(round(r)) | 1)
+        bridged = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
+        best2, comp2, candidates2 = _pick(bridged, border_full)
+        if best2 is not None and ((comp2 == best2) & (part > 0)).any():
+            best, comp, candidates = best2, comp2, candidates2
     if best is None:
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
                             n_candidates=candidates)
     mask = (comp == best).astype(np.uint8)
+    # Drop thin attachments (the sensor's lead, wires, a strap's end) by an opening a
+    # third as wide as the arm, then keep the piece that still touches the border.
+    r = float(np.percentile(cv2.distanceTransform(mask, cv2.DIST_L2, 3)[mask > 0], 95))
+    rad = max(1, int(round(0.3 * r)))
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
+    opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
+    n3, comp3, stats3, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
+    keep = [j for j in range(1, n3) if ((comp3 == j) & border_full).any()]
+    if keep:
+        mask = (comp3 == max(keep, key=lambda j: stats3[j, cv2.CC_STAT_AREA])).astype(np.uint8)
     # fill holes (nail, creases, tape the colour of the background) inside the silhouette
     filled = mask.copy()
-    ff = np.zeros((h + 2, w + 2), np.uint8)
     inv = (1 - mask).astype(np.uint8)
     # holes are background regions that do not reach the border
     n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
@@ -131,7 +157,6 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
         hole = comp2 == j
         if not (hole & border_full).any() and stats2[j, cv2.CC_STAT_AREA] < 0.2 * mask.sum():
             filled[hole] = 1
-    del ff
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
     bg_centre = centres[np.argmax(share)]
