@@ -54,6 +54,36 @@ def cmd_render(args) -> int:
     return 0
 
 
+def parse_roi(text: str) -> tuple[int, int, int, int]:
+    """``x,y,w,h`` in pixels."""
+    try:
+        x, y, w, h = (int(v) for v in text.split(","))
+        if w <= 0 or h <= 0 or x < 0 or y < 0:
+            raise ValueError
+        return x, y, w, h
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a region; write x,y,w,h in pixels, e.g. 100,50,800,600") from None
+
+
+def cmd_measure(args) -> int:
+    from pathlib import Path
+
+    from flexcal.capture.images import find_images
+    from flexcal.measure import measure_files
+
+    files = find_images(args.paths, all_files=True)
+    if not files:
+        raise FlexcalError(f"no files found in {' '.join(args.paths)}; give photos, folders or a glob such as 'trial_*/images'")
+    df = measure_files(files, roi=args.roi, method=args.method, jobs=args.jobs, overlay_dir=args.overlays)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    df.to_csv(out, index=False, float_format="%.4f")
+    counts = df["status"].value_counts()
+    print(f"measured {len(df)} photo(s): " + ", ".join(f"{counts.get(k, 0)} {k}" for k in ("ok", "low_confidence", "failed"))
+          + f"; angles table: {out}" + (f"; overlays: {args.overlays}" if args.overlays else ""))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="flexcal", description="Calibrate a flex-sensor glove from photos and serial logs.")
     parser.add_argument("--version", action="version", version=f"flexcal {__version__}")
@@ -70,6 +100,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--jpeg-quality", type=int, default=90, choices=range(1, 101), metavar="1..100")
     p.add_argument("--force", action="store_true", help="write into a non-empty folder")
     p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("measure", help="measure the bend angle in photos (angles table, overlays, contact sheet)")
+    p.add_argument("paths", nargs="+", metavar="PATH", help="photos, folders of photos, or globs")
+    p.add_argument("--out", default="angles.csv", help="angles table to write (default angles.csv)")
+    p.add_argument("--overlays", metavar="DIR", help="write an overlay per photo and contact_sheet.png here")
+    p.add_argument("--roi", type=parse_roi, help="only look inside x,y,w,h (pixels)")
+    p.add_argument("--method", choices=["auto", "contour", "markers"], default="auto")
+    p.add_argument("--jobs", type=int, default=None, help="parallel processes (default: one per core)")
+    p.set_defaults(func=cmd_measure)
     return parser
 
 

@@ -228,6 +228,7 @@ FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towa
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (3.8, 8.0)
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
+MAX_TAPER_DEG = 6.0      # a finger's two edges are never further from parallel than this
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths  # knuckle's distance from the tip, in finger widths
 
 
@@ -328,6 +329,14 @@ def _measure_contour(bgr):
             c_axis = (edges[0][0] + edges[1][0]) / 2
             se_axis = 0.5 * np.hypot(edges[0][2], edges[1][2])
             taper = np.degrees(np.arccos(np.clip(np.dot(edges[0][1], edges[1][1]), -1, 1)))
+            if taper > MAX_TAPER_DEG:
+                # Edges this far from parallel are not a finger's two sides (tape, a strap,
+                # a knuckle pad): fall back on a robust line through the midline itself.
+                c_m, d_m, r_m, w_m = _robust_line(pm)
+                d_axis = d_m if np.dot(d_m, dm) > 0 else -d_m
+                c_axis = c_m
+                se_axis = _line_dir_se(pm, r_m, w_m, corr_len=0.5 * wf)
+                taper = 0.0
             # direction pointing along increasing s: finger: towards the knuckle; hand: towards the wrist
             if np.dot(d_axis, pm[-1] - pm[0]) < 0:
                 d_axis = -d_axis
@@ -412,8 +421,8 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
         bw, bh = stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
         if a < min_area or a > 0.002 * h0 * w0:
             continue
-        fill = a / (np.pi / 4 * bw * bh)
-        if not (0.7 < bw / max(bh, 1) < 1.4 and fill > 0.75):
+        fill = a / (np.pi / 4 * bw * bh)   # 1 for a disc, 1.27 for a square
+        if not (0.75 < bw / max(bh, 1) < 1.33 and 0.85 < fill < 1.12) or min(bw, bh) < 0.008 * min(h0, w0):
             continue
         # the centroid of the saturation-weighted blob is sub-pixel
         x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
@@ -429,7 +438,10 @@ def _measure_markers(bgr):
     if len(dots) != 3:
         return failed(f"found {len(dots)} marker dots, need exactly 3 (proximal, joint, distal)", "markers")
     p = np.array([d[:2] for d in dots])
-    r = np.mean([d[2] for d in dots])
+    radii = np.array([d[2] for d in dots])
+    if radii.max() > 1.5 * radii.min():
+        return failed("the three coloured dots differ in size; they are not a marker set", "markers")
+    r = radii.mean()
     sides = [np.linalg.norm(p[(i + 1) % 3] - p[(i + 2) % 3]) for i in range(3)]
     j = int(np.argmax(sides))          # the joint dot is opposite the longest side
     a, b = p[(j + 1) % 3], p[(j + 2) % 3]

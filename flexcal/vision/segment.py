@@ -148,6 +148,11 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     keep = [j for j in range(1, n3) if ((comp3 == j) & border_full).any()]
     if keep:
         mask = (comp3 == max(keep, key=lambda j: stats3[j, cv2.CC_STAT_AREA])).astype(np.uint8)
+    # Close notches narrower than half the arm (tape or a strap in a background colour
+    # leaves a waist in the silhouette); the only concave corner this rounds is the
+    # crease under the knuckle, which the angle measurement leaves out anyway.
+    d = max(3, int(round(r)) | 1)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
     # fill holes (nail, creases, tape the colour of the background) inside the silhouette
     filled = mask.copy()
     inv = (1 - mask).astype(np.uint8)

@@ -1,0 +1,80 @@
+"""Accuracy and speed of flexcal.vision on seeded rendered suites.
+
+    python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard]
+
+Per suite: MAE, median, P95 and maximum absolute error over answered images (status
+ok or low_confidence), the share answered, silent gross errors (answered with an error
+over 5 deg), the share whose true angle lies within 2 sigma, and images per second per
+process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
+back, as a user's photos would be.
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from flexcal.capture.images import read_image
+from flexcal.measure import _reduction, _scale
+from flexcal.synthetic import render_finger
+from flexcal.vision import measure_angle
+
+
+def run_suite(difficulty, n, shape, seed, tmp):
+    rng = np.random.default_rng(seed)
+    files, truth = [], []
+    for i in range(n):
+        a = float(rng.uniform(0, 90))
+        img, _ = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None)
+        f = Path(tmp) / f"{difficulty}_{i:04d}.jpg"
+        cv2.imwrite(str(f), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+        files.append(f)
+        truth.append(a)
+    t0 = time.perf_counter()
+    got, unc, status = [], [], []
+    for f in files:
+        red = _reduction(f)
+        img, _ = read_image(f, reduce=red)
+        m = _scale(measure_angle(img), red)
+        got.append(m.angle_deg)
+        unc.append(m.angle_unc_deg)
+        status.append(m.status)
+    dt = time.perf_counter() - t0
+    got, unc, truth = np.array(got), np.array(unc), np.array(truth)
+    answered = np.isfinite(got)
+    err = np.abs(got - truth)[answered]
+    return {
+        "suite": difficulty, "n": n,
+        "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
+        "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
+        "answered": answered.mean(), "gross>5": int((err > 5).sum()),
+        "within2sigma": float(np.mean(err <= 2 * unc[answered])) if err.size else np.nan,
+        "img/s": n / dt,
+    }
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=100)
+    ap.add_argument("--size", default="1280x960")
+    ap.add_argument("--suites", default="clean,realistic,hard")
+    ap.add_argument("--seed", type=int, default=2026)
+    args = ap.parse_args(argv)
+    w, h = (int(v) for v in args.size.split("x"))
+    print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}")
+    print(f"{'suite':<10} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
+          f"{'in 2sig':>8} {'img/s':>6}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, suite in enumerate(args.suites.split(",")):
+            r = run_suite(suite, args.n, (h, w), args.seed + k, tmp)
+            print(f"{r['suite']:<10} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
+                  f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

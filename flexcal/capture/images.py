@@ -1,0 +1,66 @@
+"""Finding and reading photos on disk. Failures are values: (None, reason)."""
+
+from __future__ import annotations
+
+import glob
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from flexcal.errors import FlexcalError
+
+IMAGE_SUFFIXES = {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp", ".webp"}
+
+
+def find_images(paths, *, all_files: bool = False) -> list[Path]:
+    """Expand files, folders and glob patterns into a sorted, de-duplicated list.
+
+    Folders contribute their image files (by suffix; with ``all_files`` every file, so
+    that a non-image in an image folder is reported rather than skipped). A path that
+    matches nothing raises ``FlexcalError`` naming it.
+    """
+    found: list[Path] = []
+    for p in paths:
+        p = str(p)
+        matches = [Path(m) for m in sorted(glob.glob(p))] if glob.has_magic(p) else [Path(p)]
+        if not matches or not all(m.exists() for m in matches):
+            raise FlexcalError(f"{p}: no such file or folder; check the path (globs need quotes in some shells)")
+        for m in matches:
+            if m.is_dir():
+                found += [f for f in sorted(m.iterdir())
+                          if f.is_file() and not f.name.startswith(".")
+                          and (all_files or f.suffix.lower() in IMAGE_SUFFIXES)]
+            else:
+                found.append(m)
+    seen, out = set(), []
+    for f in found:
+        key = f.resolve()
+        if key not in seen:
+            seen.add(key)
+            out.append(f)
+    return sorted(out, key=lambda f: (str(f.parent), f.name))
+
+
+def read_image(path, *, reduce: int = 1):
+    """Read a photo as BGR uint8 (16-bit kept as uint16). Returns (image, '') or (None, reason).
+
+    ``reduce`` 2, 4 or 8 decodes a JPEG at that fraction of its size (much faster);
+    the caller then scales coordinates back.
+    """
+    path = Path(path)
+    try:
+        data = np.fromfile(path, dtype=np.uint8)
+    except OSError as e:
+        return None, f"cannot read the file ({e.strerror})"
+    if data.size == 0:
+        return None, "the file is empty"
+    flags = cv2.IMREAD_COLOR
+    if reduce in (2, 4, 8) and path.suffix.lower() in (".jpg", ".jpeg"):
+        flags = {2: cv2.IMREAD_REDUCED_COLOR_2, 4: cv2.IMREAD_REDUCED_COLOR_4, 8: cv2.IMREAD_REDUCED_COLOR_8}[reduce]
+    elif path.suffix.lower() in (".png", ".tif", ".tiff"):
+        flags = cv2.IMREAD_ANYDEPTH | cv2.IMREAD_ANYCOLOR
+    img = cv2.imdecode(data, flags)
+    if img is None:
+        return None, "not an image, or the image is corrupt (OpenCV could not decode it)"
+    return img, ""

@@ -1,0 +1,82 @@
+"""Drawings for people to check measurements: per-photo overlays and a contact sheet."""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from flexcal.vision.angle import AngleMeasurement, as_bgr8
+
+_COLOURS = {"ok": (60, 200, 60), "low_confidence": (0, 190, 255), "failed": (40, 40, 230)}
+
+
+def draw_overlay(image, m: AngleMeasurement) -> np.ndarray:
+    """The photo with the two arms, the vertex and the angle drawn as ImageJ's angle tool shows them."""
+    img = as_bgr8(image).copy()
+    h, w = img.shape[:2]
+    s = max(1.0, min(h, w) / 480)
+    thick = max(1, int(round(2 * s)))
+    col = _COLOURS.get(m.status, (200, 200, 200))
+    if m.proximal is not None and m.distal is not None and np.isfinite(m.vertex[0]):
+        v = np.array(m.vertex, float)
+        p_end = v + m.proximal.direction * m.proximal.length_px
+        d_end = v + m.distal.direction * m.distal.length_px
+        for end in (p_end, d_end):
+            cv2.line(img, _pt(v), _pt(end), (0, 0, 0), thick + 2, cv2.LINE_AA)
+            cv2.line(img, _pt(v), _pt(end), (0, 255, 255), thick, cv2.LINE_AA)
+            cv2.circle(img, _pt(end), int(4 * s), (0, 255, 255), -1, cv2.LINE_AA)
+        # the arc of the interior angle, as ImageJ draws it
+        a0 = math.degrees(math.atan2(m.proximal.direction[1], m.proximal.direction[0]))
+        a1 = math.degrees(math.atan2(m.distal.direction[1], m.distal.direction[0]))
+        span = (a1 - a0 + 540) % 360 - 180
+        r = int(0.25 * min(m.proximal.length_px, m.distal.length_px))
+        cv2.ellipse(img, _pt(v), (r, r), 0, a0, a0 + span, (255, 0, 255), thick, cv2.LINE_AA)
+        cv2.circle(img, _pt(v), int(5 * s), (255, 0, 255), -1, cv2.LINE_AA)
+    label = (f"bend {m.angle_deg:.1f} +- {m.angle_unc_deg:.1f} deg  ({m.method}, conf {m.confidence:.2f})"
+             if np.isfinite(m.angle_deg) else f"FAILED: {m.reason}")
+    _text(img, label, (int(10 * s), int(30 * s)), 0.7 * s, col)
+    if m.status == "low_confidence":
+        _text(img, m.reason[:90], (int(10 * s), int(60 * s)), 0.5 * s, col)
+    return img
+
+
+def contact_sheet(images, labels, statuses=None, *, cols: int = 6, thumb_w: int = 320) -> np.ndarray:
+    """One grid image of thumbnails with a caption under each (status-coloured frame)."""
+    n = len(images)
+    if n == 0:
+        raise ValueError("contact_sheet needs at least one image")
+    statuses = statuses or ["ok"] * n
+    cols = max(1, min(cols, n))
+    thumbs = []
+    for img, lab, st in zip(images, labels, statuses):
+        img = as_bgr8(img)
+        th = int(round(img.shape[0] * thumb_w / img.shape[1]))
+        t = cv2.resize(img, (thumb_w, max(1, th)), interpolation=cv2.INTER_AREA)
+        thumbs.append((t, lab, st))
+    cell_h = max(t.shape[0] for t, _, _ in thumbs) + 44
+    rows = math.ceil(n / cols)
+    sheet = np.full((rows * cell_h + 8, cols * (thumb_w + 8) + 8, 3), 255, np.uint8)
+    for i, (t, lab, st) in enumerate(thumbs):
+        r, c = divmod(i, cols)
+        y, x = 8 + r * cell_h, 8 + c * (thumb_w + 8)
+        sheet[y:y + t.shape[0], x:x + thumb_w] = t
+        cv2.rectangle(sheet, (x - 3, y - 3), (x + thumb_w + 2, y + t.shape[0] + 2), _COLOURS.get(st, (128,) * 3), 3)
+        for k, line in enumerate(_wrap(lab, 42)[:2]):
+            cv2.putText(sheet, line, (x, y + t.shape[0] + 18 + 16 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.45,
+                        (20, 20, 20), 1, cv2.LINE_AA)
+    return sheet
+
+
+def _wrap(text, width):
+    return [text[i:i + width] for i in range(0, len(text), width)] or [""]
+
+
+def _pt(p):
+    return int(round(p[0])), int(round(p[1]))
+
+
+def _text(img, text, org, scale, colour):
+    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), max(2, int(4 * scale)), cv2.LINE_AA)
+    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, colour, max(1, int(2 * scale)), cv2.LINE_AA)

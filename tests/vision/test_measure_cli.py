@@ -1,0 +1,50 @@
+import cv2
+import pandas as pd
+
+from flexcal.cli import main
+from flexcal.measure import ANGLE_COLUMNS
+from flexcal.synthetic import render_finger
+
+
+def test_measure_folder_with_bad_files_keeps_every_row(tmp_path, capsys):
+    photos = tmp_path / "photos"
+    photos.mkdir()
+    for i, a in enumerate((10.0, 45.0, 80.0)):
+        img, _ = render_finger(a, shape=(480, 640), rng=i, difficulty="clean")
+        cv2.imwrite(str(photos / f"p{i}.jpg"), img)
+    (photos / "empty.jpg").write_bytes(b"")
+    (photos / "corrupt.jpg").write_bytes(b"\xff\xd8\xff\xe0 this is not really a jpeg")
+    (photos / "notes.txt").write_text("trial notes")
+    cv2.imwrite(str(photos / "black.png"), (0 * img))
+    cv2.imwrite(str(photos / "tiny.png"), img[:1, :1])
+    out = tmp_path / "angles.csv"
+    assert main(["measure", str(photos), "--out", str(out), "--overlays", str(tmp_path / "ov"), "--jobs", "2"]) == 0
+    df = pd.read_csv(out)
+    assert list(df.columns) == ANGLE_COLUMNS
+    names = [p.split("/")[-1] for p in df["image"]]
+    assert names == sorted(names) and len(names) == 8       # every file has a row, in order
+    by = dict(zip(names, df.itertuples()))
+    for bad, why in [("empty.jpg", "empty"), ("corrupt.jpg", "corrupt"), ("notes.txt", "not an image"),
+                     ("black.png", "blank"), ("tiny.png", "too small")]:
+        assert by[bad].status == "failed" and why in by[bad].reason
+    good = df[[n in ("p0.jpg", "p1.jpg", "p2.jpg") for n in names]]
+    assert (good["status"] != "failed").all()
+    assert ((good["angle_deg"] - pd.Series([10.0, 45.0, 80.0], index=good.index)).abs() < 2).all()
+    assert (tmp_path / "ov" / "contact_sheet.png").exists()
+    assert len(list((tmp_path / "ov").glob("*_overlay.jpg"))) == 5   # one per readable photo
+
+
+def test_measure_missing_path_is_a_one_line_error(tmp_path, capsys):
+    assert main(["measure", str(tmp_path / "nope"), "--out", str(tmp_path / "a.csv")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "nope" in err and "no such file" in err and len(err.splitlines()) == 1
+
+
+def test_measure_glob(tmp_path):
+    img, _ = render_finger(30.0, shape=(480, 640), rng=1, difficulty="clean")
+    for t in ("trial_01", "trial_02"):
+        (tmp_path / t / "images").mkdir(parents=True)
+        cv2.imwrite(str(tmp_path / t / "images" / "a.png"), img)
+    out = tmp_path / "angles.csv"
+    assert main(["measure", str(tmp_path / "trial_*" / "images"), "--out", str(out), "--jobs", "1"]) == 0
+    assert len(pd.read_csv(out)) == 2
