@@ -381,6 +381,19 @@ def _measure_contour(bgr):
     if unc > 2.0:
         conf *= max(0.0, 1 - (unc - 2.0) / 4.0)
         reasons.append(f"the angle depends on where the knuckle is placed (+-{unc:.1f} deg)")
+    # cross-check: the turn of the midline itself between the two windows must agree
+    # with the edges' answer; a disagreement means the windows hold something that is
+    # not a straight arm (another finger, a strap, a wrong silhouette)
+    pf = _arm_window(mid, s, b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf)
+    ph = _arm_window(mid, s, b + HAND_WIN[0] * wf, b + min(HAND_WIN[1], (total - b) / wf) * wf)
+    if len(pf) >= 8 and len(ph) >= 8:
+        dfm, dhm = _robust_line(pf)[1], _robust_line(ph)[1]
+        dfm = dfm if np.dot(dfm, pf[0] - pf[-1]) > 0 else -dfm
+        dhm = dhm if np.dot(dhm, ph[0] - ph[-1]) > 0 else -dhm
+        disagree = abs(_bend(dhm, dfm) - angle)
+        if disagree > max(1.5, 2 * unc):
+            conf *= max(0.0, 1 - (disagree - max(1.5, 2 * unc)) / 3.0)
+            reasons.append(f"the midline and the edges disagree by {disagree:.1f} deg")
     conf = float(np.clip(conf, 0, 1))
     inv = 1.0 / f
     meas = AngleMeasurement(
