@@ -305,23 +305,19 @@ def _sensor_path(finger: _Finger, size, lift):
 
 
 def _convex_bridge(pts):
-    """Replace dips in the dorsal path by straight spans (the strip does not sag into them)."""
-    # Walk the path keeping a point only if it is not below the chord of its neighbours.
+    """Replace dips in the dorsal path by straight spans (the strip does not sag into them).
+
+    Walks the path, each time jumping to the farthest of the next few points whose chord
+    leaves no intermediate point on the dorsal side of it.
+    """
     out = [pts[0]]
-    i = 0
-    n = len(pts)
+    i, n = 0, len(pts)
     while i < n - 1:
-        best_j, best_turn = i + 1, None
+        best_j = i + 1
         for j in range(i + 1, min(n, i + 12)):
             v = pts[j] - pts[i]
-            # dorsal side is to the left of the walking direction: keep the most dorsal chord
-            ok = True
-            for k in range(i + 1, j):
-                w = pts[k] - pts[i]
-                if v[0] * w[1] - v[1] * w[0] < -1e-9:  # point k lies dorsal of the chord
-                    ok = False
-                    break
-            if ok:
+            w = pts[i + 1:j] - pts[i]
+            if np.all(v[0] * w[:, 1] - v[1] * w[:, 0] >= -1e-9):
                 best_j = j
         out.append(pts[best_j])
         i = best_j

@@ -165,9 +165,7 @@ def _outline_chains(mask):
     on_border = (c[:, 0] <= 0.5) | (c[:, 1] <= 0.5) | (c[:, 0] >= w - 1.5) | (c[:, 1] >= h - 1.5)
     if not on_border.any():
         return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
-    # rotate the loop so that it starts just after a run of border points
     n = len(c)
-    idx = np.nonzero(on_border)[0]
     free = ~on_border
     # the longest run of free (non-border) points is the outline of hand and finger
     runs, start = [], None
@@ -187,7 +185,6 @@ def _outline_chains(mask):
     tip = int(np.argmax(np.linalg.norm(chain - ends_mid, axis=1)))
     side_a = chain[: tip + 1][::-1]   # tip -> edge
     side_b = chain[tip:]              # tip -> edge
-    del idx
     return (side_a, side_b), ""
 
 
