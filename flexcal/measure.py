@@ -39,7 +39,10 @@ def _reduction(path: Path) -> int:
 
 
 def measure_file(path, *, roi=None, method="auto", overlay_dir=None, thumb_w=320):
-    """Measure one photo. Returns (row dict, thumbnail BGR or None)."""
+    """Measure one photo. Returns (row dict, overlay thumbnail BGR or None).
+
+    With ``overlay_dir`` the overlay is written there and its thumbnail returned.
+    """
     path = Path(path)
     red = 1 if roi is not None else _reduction(path)
     img, why = read_image(path, reduce=red)
@@ -55,11 +58,10 @@ def measure_file(path, *, roi=None, method="auto", overlay_dir=None, thumb_w=320
         if red > 1:
             m = _scale(m, red)
     thumb = None
-    if img is not None:
+    if img is not None and overlay_dir is not None:  # overlays cost a full-size decode: only when asked
         full = img if red == 1 else cv2.imread(str(path), cv2.IMREAD_COLOR)
         ov = draw_overlay(full, m)
-        if overlay_dir is not None:
-            cv2.imwrite(str(Path(overlay_dir) / f"{path.stem}_overlay.jpg"), ov, [cv2.IMWRITE_JPEG_QUALITY, 85])
+        cv2.imwrite(str(Path(overlay_dir) / f"{path.stem}_overlay.jpg"), ov, [cv2.IMWRITE_JPEG_QUALITY, 85])
         th = int(round(ov.shape[0] * thumb_w / ov.shape[1]))
         thumb = cv2.resize(ov, (thumb_w, max(1, th)), interpolation=cv2.INTER_AREA)
     row = {"image": str(path), **m.row()}

@@ -223,10 +223,10 @@ def _trimmed_ms(r, keep=0.8):
 
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
-KNUCKLE_RANGE = (3.8, 8.0)
+KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 6.0      # a finger's two edges are never further from parallel than this
-STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths  # knuckle's distance from the tip, in finger widths
+STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 
 def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
@@ -255,7 +255,6 @@ def _measure_contour(bgr):
     side_a, side_b = chains
     mid, width, s, a_pts, b_pts = _midline(side_a, side_b)
     total = s[-1]
-    # the finger is the narrow part: its width is a low percentile of the width profile
     valid = (s > 0.05 * total)
     if valid.sum() < 20:
         return failed("the silhouette is too small to measure", "contour")

@@ -55,6 +55,12 @@ def _border_pixels(shape):
     return m
 
 
+def _arm_radius(part) -> float:
+    """Half width of the widest part of a silhouette (95th percentile of its distance transform)."""
+    part = part.astype(np.uint8)
+    return float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
+
+
 def _pick(fg, border):
     """The most finger-like connected part of ``fg`` that touches the border.
 
@@ -71,8 +77,7 @@ def _pick(fg, border):
         touches = (part & border).sum()
         if touches == 0:
             continue
-        dist = cv2.distanceTransform(part.astype(np.uint8), cv2.DIST_L2, 3)
-        r = np.percentile(dist[part], 95)
+        r = _arm_radius(part)
         if r < 2:
             continue
         elong = area / (4 * r * r)   # length in widths, for a tube
@@ -128,7 +133,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
         # Bridge what crosses the finger in a background colour (tape, a strap, a
         # highlight): close gaps up to half an arm's width, then choose again.
         part = (comp == best).astype(np.uint8)
-        r = float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
+        r = _arm_radius(part)
         d = max(3, int(round(r)) | 1)
         bridged = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
         best2, comp2, candidates2 = _pick(bridged, border_full)
@@ -140,7 +145,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     mask = (comp == best).astype(np.uint8)
     # Drop thin attachments (the sensor's lead, wires, a strap's end) by an opening a
     # third as wide as the arm, then keep the piece that still touches the border.
-    r = float(np.percentile(cv2.distanceTransform(mask, cv2.DIST_L2, 3)[mask > 0], 95))
+    r = _arm_radius(mask)
     rad = max(1, int(round(0.3 * r)))
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
