@@ -64,3 +64,30 @@ def read_image(path, *, reduce: int = 1):
     if img is None:
         return None, "not an image, or the image is corrupt (OpenCV could not decode it)"
     return img, ""
+
+
+def exif_time_s(path) -> float | None:
+    """When the camera took the photo, from EXIF DateTimeOriginal (+ SubSecTimeOriginal).
+
+    Seconds since 1970 reading the camera's local time as if it were UTC: only the
+    differences between photos are meaningful. None when the file has no such tag.
+    """
+    from datetime import datetime, timezone
+
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(path) as im:
+            exif = im.getexif()
+    except (OSError, UnidentifiedImageError):
+        return None
+    sub = exif.get_ifd(0x8769)   # the Exif sub-IFD holds DateTimeOriginal and its sub-seconds
+    stamp = sub.get(0x9003) or exif.get(0x0132)   # DateTimeOriginal, else DateTime
+    if not stamp:
+        return None
+    try:
+        t = datetime.strptime(str(stamp).strip("\x00 "), "%Y:%m:%d %H:%M:%S").replace(tzinfo=timezone.utc).timestamp()
+    except ValueError:
+        return None
+    frac = str(sub.get(0x9291, "")).strip("\x00 ")   # SubSecTimeOriginal
+    return t + (float("0." + frac) if frac.isdigit() else 0.0)

@@ -1,0 +1,103 @@
+"""Steady plateaus in a resistance stream: where the finger was held still.
+
+Shared by capture (to say "steady, take the photo") and calibration (to pair photos
+with readings). The test is relative to the stream's own noise, so it needs no
+threshold in ohm: the noise is estimated from sample-to-sample differences (robust to
+the steps), and a sample is steady when the spread of a short window around it stays
+within a few noise widths.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+PLATEAU_COLUMNS = ["plateau", "i_start", "i_end", "t_start_s", "t_end_s", "resistance_ohm", "resistance_std_ohm",
+                   "n_samples"]
+
+
+def noise_ohm(resistance_ohm) -> float:
+    """Sample-to-sample noise (1 sigma, ohm), robust to steps: MAD of differences / sqrt 2."""
+    r = np.asarray(resistance_ohm, float)
+    d = np.diff(r[np.isfinite(r)])
+    if d.size < 2:
+        return float("nan")
+    mad = 1.4826 * np.median(np.abs(d - np.median(d)))
+    return float(mad / np.sqrt(2))
+
+
+def _window_samples(t_s, window_s: float, default: int) -> int:
+    t = np.asarray(t_s, float)
+    if t.size > 2 and np.isfinite(t).all():
+        dt = np.median(np.diff(t))
+        if dt > 0:
+            return max(3, int(round(window_s / dt)) | 1)
+    return default
+
+
+def steady_mask(t_s, resistance_ohm, *, window_s: float = 0.5, tolerance: float = 3.0,
+                noise: float | None = None) -> np.ndarray:
+    """True where the signal is steady.
+
+    A sample is steady when the standard deviation of the centred window of
+    ``window_s`` seconds around it (9 samples when there is no time) is at most
+    ``tolerance`` times the noise (estimated with ``noise_ohm`` unless given), with a
+    floor of 0.05 % of the level so a noiseless stream is not all unsteady.
+    """
+    r = pd.Series(np.asarray(resistance_ohm, float))
+    w = _window_samples(t_s, window_s, default=9)
+    sd = r.rolling(w, center=True, min_periods=max(2, w // 2)).std().to_numpy()
+    sigma = noise_ohm(r) if noise is None else noise
+    level = np.nanmedian(np.abs(r)) if r.notna().any() else 0.0
+    limit = max(tolerance * (sigma if np.isfinite(sigma) else 0.0), 5e-4 * level)
+    return np.nan_to_num(sd, nan=np.inf) <= limit
+
+
+def find_plateaus(t_s, resistance_ohm, *, min_hold_s: float = 1.0, window_s: float = 0.5,
+                  tolerance: float = 3.0) -> pd.DataFrame:
+    """The steady stretches of a stream, in time order.
+
+    Parameters
+    ----------
+    t_s : (N,) array
+        Sample times in seconds, or NaN throughout when the log has no time (then the
+        durations are counted in samples at a nominal 50 Hz).
+    resistance_ohm : (N,) array
+    min_hold_s : float
+        Shortest stretch that counts as a plateau.
+
+    Returns
+    -------
+    DataFrame with ``plateau`` (1, 2, ...), ``i_start, i_end`` (row positions, end
+    exclusive), ``t_start_s, t_end_s``, the median ``resistance_ohm``, its standard
+    deviation and ``n_samples``. Adjacent stretches at one level, split by a spike,
+    are merged.
+    """
+    r = np.asarray(resistance_ohm, float)
+    t = np.asarray(t_s, float)
+    timed = t.size == r.size and t.size > 2 and np.isfinite(t).all()
+    if not timed:
+        t = np.arange(r.size) / 50.0
+    steady = steady_mask(t, r, window_s=window_s, tolerance=tolerance) & np.isfinite(r)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], steady.astype(int), [0]])))
+    runs = list(zip(edges[::2], edges[1::2]))
+    sigma = noise_ohm(r)
+    merged: list[list[int]] = []
+    for a, b in runs:
+        if merged:
+            pa, pb = merged[-1]
+            same = abs(np.median(r[pa:pb]) - np.median(r[a:b])) <= 4 * max(sigma, 1e-9)
+            if same and t[a] - t[pb - 1] < min_hold_s:
+                merged[-1][1] = b
+                continue
+        merged.append([a, b])
+    rows = []
+    for a, b in merged:
+        if t[b - 1] - t[a] < min_hold_s:
+            continue
+        seg = r[a:b][steady[a:b]]
+        rows.append(dict(plateau=len(rows) + 1, i_start=int(a), i_end=int(b),
+                         t_start_s=float(t[a]) if timed else np.nan, t_end_s=float(t[b - 1]) if timed else np.nan,
+                         resistance_ohm=float(np.median(seg)), resistance_std_ohm=float(np.std(seg, ddof=1)),
+                         n_samples=int(seg.size)))
+    return pd.DataFrame(rows, columns=PLATEAU_COLUMNS)
