@@ -84,6 +84,79 @@ def cmd_measure(args) -> int:
     return 0
 
 
+def _divider(args):
+    from flexcal.divider import Divider
+
+    if args.r_fixed_ohm is None:
+        return None
+    try:
+        return Divider(args.r_fixed_ohm, args.vref_v, args.adc_bits)
+    except ValueError as e:
+        raise FlexcalError(f"--r-fixed-ohm/--vref-v/--adc-bits: {e}") from None
+
+
+def cmd_calibrate(args) -> int:
+    from flexcal.calibration.calibrate import calibrate
+    from flexcal.calibration.experiment import find_trials, read_angles, trials_from_args
+
+    if args.trials and (args.images or args.log):
+        raise FlexcalError("give either --trials DIR, or --images DIR --log FILE, not both")
+    if not args.trials and not (args.images and args.log):
+        raise FlexcalError("say where the experiment is: --images DIR --log serial.csv (one pair per trial), "
+                           "or --trials DIR (a folder of trial folders)")
+    trials = find_trials(args.trials) if args.trials else trials_from_args(args.images, args.log)
+    angles = read_angles(args.angles) if args.angles else None
+    res = calibrate(trials, args.out, angles=angles, angles_path=args.angles, pressure_path=args.pressure,
+                    contact_area_in2=args.contact_area_in2, divider=_divider(args), window_s=args.window_s,
+                    jobs=args.jobs, overlays=not args.no_overlays)
+    val = {v["mapping"]: v for v in res["validation"]}
+    print(f"calibrated {len(trials)} trial(s): {res['pairs']['used']} of {res['pairs']['total']} pairs used"
+          + (f" ({len(res['pairs']['excluded'])} excluded, reasons in the report)" if res["pairs"]["excluded"] else ""))
+    for name in ("factory", "empirical", "physical"):
+        if name in val:
+            v = val[name]
+            print(f"  {name:9s} angle RMSE {v['rmse_deg']:5.2f} deg, bias {v['bias_deg']:+5.2f}, "
+                  f"max {v['max_abs_deg']:5.2f}  ({v['validation']})")
+    p = res["paths"]
+    print(f"report: {p['report']}\ncalibration: {p['calibration']}   firmware header: {p['header']}")
+    return 0
+
+
+def cmd_apply(args) -> int:
+    from flexcal.calibration.calibrate import apply_calibration
+
+    df = apply_calibration(args.calibration, args.log, args.out, mapping=args.mapping,
+                           extrapolate=args.extrapolate, divider=_divider(args))
+    extra = int(df["extrapolated"].sum())
+    print(f"wrote {len(df)} sample(s) with corrected angles to {args.out}"
+          + (f"; {extra} outside the calibrated range (extrapolated)" if extra else ""))
+    return 0
+
+
+def _add_divider_args(p):
+    g = p.add_argument_group("voltage divider (for logs with ADC counts only and no firmware banner)")
+    g.add_argument("--r-fixed-ohm", type=float, help="the divider's fixed resistor, ohm")
+    g.add_argument("--vref-v", type=float, default=5.0, help="ADC reference voltage (default 5)")
+    g.add_argument("--adc-bits", type=int, default=10, help="ADC resolution (default 10)")
+
+
+def add_calibrate_args(p):
+    p.add_argument("--images", nargs="+", metavar="DIR", help="folder(s) of a trial's photos (globs allowed)")
+    p.add_argument("--log", nargs="+", metavar="FILE", help="serial log(s), one per --images folder, same order")
+    p.add_argument("--trials", nargs="+", metavar="DIR", help="experiment folder(s) holding trial folders "
+                   "(images/ + serial.csv [+ frames.csv]), or trial folders")
+    p.add_argument("--angles", metavar="CSV", help="use these photo angles (image,angle_deg; e.g. from flexcal "
+                   "measure) instead of measuring the photos")
+    p.add_argument("--pressure", metavar="CSV", help="the pressure experiment: mass_g,trial,angle_deg,resistance_ohm")
+    p.add_argument("--contact-area-in2", type=float, default=0.05, help="pad contact area, in² (default 0.05)")
+    p.add_argument("--out", default="calibration", metavar="DIR", help="output folder (default ./calibration)")
+    p.add_argument("--window-s", type=float, default=2.0, help="window around each photo's time, s (default 2)")
+    p.add_argument("--jobs", type=int, default=None, help="parallel processes for the photos (default: one per core)")
+    p.add_argument("--no-overlays", action="store_true", help="do not draw an overlay per photo")
+    _add_divider_args(p)
+    p.set_defaults(func=cmd_calibrate)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="flexcal", description="Calibrate a flex-sensor glove from photos and serial logs.")
     parser.add_argument("--version", action="version", version=f"flexcal {__version__}")
@@ -109,6 +182,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=["auto", "contour", "markers"], default="auto")
     p.add_argument("--jobs", type=int, default=None, help="parallel processes (default: one per core)")
     p.set_defaults(func=cmd_measure)
+
+    p = sub.add_parser("calibrate", help="measure photos, pair them with the serial log, fit, validate, report")
+    add_calibrate_args(p)
+
+    p = sub.add_parser("apply", help="add corrected angles to a serial log with a calibration.json")
+    p.add_argument("--calibration", required=True, metavar="JSON", help="calibration.json from calibrate")
+    p.add_argument("--log", required=True, metavar="FILE", help="serial log to correct (any dialect read_log reads)")
+    p.add_argument("--out", required=True, metavar="CSV", help="the log with corrected-angle columns")
+    p.add_argument("--mapping", choices=["empirical", "physical", "factory"],
+                   help="mapping for angle_corrected_deg (default: the calibration's recommended one)")
+    p.add_argument("--extrapolate", action="store_true", help="map readings outside the calibrated range too")
+    _add_divider_args(p)
+    p.set_defaults(func=cmd_apply)
     return parser
 
 
@@ -123,6 +209,11 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print(f"flexcal {args.command}: interrupted; files written so far are kept", file=sys.stderr)
         return 130
+
+
+def calibrate_main(argv=None) -> int:
+    """The ``calibrate`` console script: the same as ``flexcal calibrate``."""
+    return main(["calibrate", *(sys.argv[1:] if argv is None else argv)])
 
 
 if __name__ == "__main__":
