@@ -69,12 +69,12 @@ def select_pairs(pairs: pd.DataFrame) -> pd.DataFrame:
         m = mask & (reason == "")
         reason = reason.where(~m, text if isinstance(text, str) else text[m])
 
+    why = pd.Series([s if isinstance(s, str) else "" for s in p["reason"]], index=p.index, dtype=object)
     angle_nan = ~np.isfinite(p["angle_actual_deg"].astype(float))
-    vision_why = "no photo angle: " + p["reason"].fillna("").astype(str).replace("", "not measured")
-    mark(angle_nan, vision_why)
+    mark(angle_nan, "no photo angle: " + why.replace("", "not measured"))
     mark(~np.isfinite(p["resistance_ohm"].astype(float)), "no serial samples at the photo's time")
     mark(p["status"].astype(str) == "low_confidence",
-         "photo angle has low confidence: " + p["reason"].fillna("").astype(str))
+         "photo angle has low confidence: " + why)
     mark(~p["steady"].astype(bool), "signal not steady around the photo")
     ok = reason == ""
     if ok.sum() >= 4:

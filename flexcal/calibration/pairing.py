@@ -158,8 +158,8 @@ def pair_trial(trial: str, images: list[Path], angles: pd.DataFrame, samples: pd
             angles = angles.assign(**{col: np.nan if col.startswith("angle") else ("ok" if col == "status" else "")})
     pairs["angle_actual_deg"] = angles["angle_deg"].to_numpy(float)
     pairs["angle_actual_unc_deg"] = angles["angle_unc_deg"].to_numpy(float)
-    pairs["status"] = angles["status"].fillna("ok").astype(str).to_numpy()
-    pairs["reason"] = angles["reason"].fillna("").astype(str).to_numpy()
+    pairs["status"] = [s if isinstance(s, str) and s else "ok" for s in angles["status"]]
+    pairs["reason"] = [s if isinstance(s, str) else "" for s in angles["reason"]]
     no_samples = pairs["n_samples"] == 0
     if no_samples.any():
         lo, hi = np.nanmin(t) if np.isfinite(t).any() else np.nan, np.nanmax(t) if np.isfinite(t).any() else np.nan
