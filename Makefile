@@ -18,8 +18,8 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/flexcal measure datasets/sample/trial_*/images --out $(OUT)/angles.csv --overlays $(OUT)/overlays
-	@echo "angles: $(OUT)/angles.csv   overlays and contact sheet: $(OUT)/overlays/"
+	$(BIN)/calibrate --trials datasets/sample --pressure datasets/sample/pressure.csv --out $(OUT)
+	@echo "open the report: $(OUT)/report.html"
 
 test: $(STAMP)
 	$(BIN)/python -m pytest

@@ -38,10 +38,27 @@ def _reduction(path: Path) -> int:
     return 1
 
 
-def measure_file(path, *, roi=None, method="auto", overlay_dir=None, thumb_w=320):
+def overlay_names(paths) -> list[str]:
+    """File names for the photos' overlays, unique within a batch.
+
+    ``<stem>_overlay.jpg``; when stems repeat (``trial_01/images/step_01.jpg`` and
+    ``trial_02/images/step_01.jpg``) the folders that tell them apart are prefixed:
+    ``trial_01__images__step_01_overlay.jpg``.
+    """
+    paths = [Path(p) for p in paths]
+    stems = [p.stem for p in paths]
+    if len(set(stems)) == len(stems):
+        return [f"{s}_overlay.jpg" for s in stems]
+    absolute = [p.resolve() for p in paths]
+    common = Path(os.path.commonpath([str(a.parent) for a in absolute]))
+    return ["__".join(a.relative_to(common).with_suffix("").parts) + "_overlay.jpg" for a in absolute]
+
+
+def measure_file(path, *, roi=None, method="auto", overlay_dir=None, overlay_name=None, thumb_w=320):
     """Measure one photo. Returns (row dict, overlay thumbnail BGR or None).
 
-    With ``overlay_dir`` the overlay is written there and its thumbnail returned.
+    With ``overlay_dir`` the overlay is written there (as ``overlay_name``, by default
+    ``<stem>_overlay.jpg``) and its thumbnail returned.
     """
     path = Path(path)
     red = 1 if roi is not None else _reduction(path)
@@ -61,7 +78,8 @@ def measure_file(path, *, roi=None, method="auto", overlay_dir=None, thumb_w=320
     if img is not None and overlay_dir is not None:  # overlays cost a full-size decode: only when asked
         full = img if red == 1 else cv2.imread(str(path), cv2.IMREAD_COLOR)
         ov = draw_overlay(full, m)
-        cv2.imwrite(str(Path(overlay_dir) / f"{path.stem}_overlay.jpg"), ov, [cv2.IMWRITE_JPEG_QUALITY, 85])
+        name = overlay_name or f"{path.stem}_overlay.jpg"
+        cv2.imwrite(str(Path(overlay_dir) / name), ov, [cv2.IMWRITE_JPEG_QUALITY, 85])
         th = int(round(ov.shape[0] * thumb_w / ov.shape[1]))
         thumb = cv2.resize(ov, (thumb_w, max(1, th)), interpolation=cv2.INTER_AREA)
     row = {"image": str(path), **m.row()}
@@ -78,8 +96,8 @@ def _scale(m: AngleMeasurement, f: float) -> AngleMeasurement:
 
 
 def _job(args):
-    path, roi, method, overlay_dir = args
-    return measure_file(path, roi=roi, method=method, overlay_dir=overlay_dir)
+    path, roi, method, overlay_dir, name = args
+    return measure_file(path, roi=roi, method=method, overlay_dir=overlay_dir, overlay_name=name)
 
 
 def measure_files(paths, *, roi=None, method="auto", jobs=None, overlay_dir=None, progress=True) -> pd.DataFrame:
@@ -91,7 +109,8 @@ def measure_files(paths, *, roi=None, method="auto", jobs=None, overlay_dir=None
     if overlay_dir is not None:
         Path(overlay_dir).mkdir(parents=True, exist_ok=True)
     jobs = max(1, int(jobs or os.cpu_count() or 1))
-    tasks = [(p, roi, method, None if overlay_dir is None else str(overlay_dir)) for p in paths]
+    names = overlay_names(paths) if paths else []
+    tasks = [(p, roi, method, None if overlay_dir is None else str(overlay_dir), n) for p, n in zip(paths, names)]
     results = []
     with tqdm(total=len(tasks), desc="measuring", unit="photo", disable=not progress) as bar:
         if jobs == 1 or len(tasks) < 4:

@@ -23,6 +23,9 @@ from flexcal.errors import FlexcalError
 #: an answered photo whose angle sits this far (deg) off the robust line of the others is excluded
 OUTLIER_MIN_DEG = 3.0
 OUTLIER_MADS = 5.0
+#: a correction is valid over the photographed angles widened by this much
+VALID_MARGIN_DEG = 2.0
+VALID_MARGIN_SHARE = 0.05
 #: uncertainty assumed for a photo angle that comes without one (deg)
 DEFAULT_ANGLE_UNC_DEG = 1.0
 
@@ -149,10 +152,18 @@ def _eq17(angle, resistance, angle_unc, res_std, n):
     return york(angle, resistance, np.maximum(sx, 0.05), np.maximum(sy, 1.0), scatter=True)
 
 
+def valid_range(angle_deg) -> tuple[float, float]:
+    """Where a correction is trusted: the photographed angles, widened by max(2 deg, 5 % of the
+    span) each side so that a straight finger's noise does not fall outside."""
+    lo, hi = float(np.min(angle_deg)), float(np.max(angle_deg))
+    m = max(VALID_MARGIN_DEG, VALID_MARGIN_SHARE * (hi - lo))
+    return (lo - m, hi + m)
+
+
 def _mappings(used: pd.DataFrame, deg_per_psi: float):
     a = used["angle_actual_deg"].to_numpy(float)
     r = used["resistance_ohm"].to_numpy(float)
-    rng = (float(a.min()), float(a.max()))
+    rng = valid_range(a)
     e17 = _eq17(a, r, used["angle_actual_unc_deg"].to_numpy(float), used["resistance_std_ohm"].to_numpy(float),
                 used["n_samples"].to_numpy(float))
     phys = _fit_physical(a, r, deg_per_psi)

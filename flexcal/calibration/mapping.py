@@ -23,11 +23,15 @@ class OutOfRange(ValueError):
 
 @dataclass(frozen=True)
 class LinearMapping:
-    """R = slope * angle + offset, inverted: angle = (R - offset) / slope."""
+    """R = slope * angle + offset, inverted: angle = (R - offset) / slope.
+
+    ``angle_range_deg`` is where the mapping is valid (None: everywhere, as the
+    firmware's factory line claims).
+    """
 
     slope_ohm_per_deg: float
     offset_ohm: float
-    angle_range_deg: tuple = (0.0, 90.0)
+    angle_range_deg: tuple | None = (0.0, 90.0)
     kind: str = "linear"
 
     def resistance_ohm(self, angle_deg):
@@ -39,11 +43,17 @@ class LinearMapping:
     def to_dict(self) -> dict:
         return {"kind": self.kind, "form": "angle_deg = (resistance_ohm - offset_ohm) / slope_ohm_per_deg",
                 "slope_ohm_per_deg": self.slope_ohm_per_deg, "offset_ohm": self.offset_ohm,
-                "angle_range_deg": list(self.angle_range_deg), "resistance_range_ohm": list(self.resistance_range_ohm)}
+                **self._ranges()}
 
-    # shared below
+    def _ranges(self) -> dict:
+        if self.angle_range_deg is None:
+            return {"angle_range_deg": None, "resistance_range_ohm": None}
+        return {"angle_range_deg": list(self.angle_range_deg), "resistance_range_ohm": list(self.resistance_range_ohm)}
+
     @property
     def resistance_range_ohm(self):
+        if self.angle_range_deg is None:
+            return (-np.inf, np.inf)
         lo, hi = self.resistance_ohm(np.array(self.angle_range_deg))
         return (float(min(lo, hi)), float(max(lo, hi)))
 
@@ -99,7 +109,7 @@ class PhysicalMapping(LinearMapping):
                          "inverted numerically"),
                 "slope_ohm_per_deg": self.slope_ohm_per_deg, "offset_ohm": self.offset_ohm,
                 "pressure_k_ohm_per_psi": self.pressure_k_ohm_per_psi, "deg_per_psi": self.deg_per_psi,
-                "angle_range_deg": list(self.angle_range_deg), "resistance_range_ohm": list(self.resistance_range_ohm)}
+                **self._ranges()}
 
     def table(self, n: int = 32):
         """A lookup table (resistance_ohm, angle_deg) over the valid range, for the firmware."""
@@ -107,13 +117,14 @@ class PhysicalMapping(LinearMapping):
         return self.resistance_ohm(a), a
 
 
-FACTORY = LinearMapping(FACTORY_SLOPE_OHM_PER_DEG, FACTORY_OFFSET_OHM, (-1e9, 1e9), kind="factory")
+FACTORY = LinearMapping(FACTORY_SLOPE_OHM_PER_DEG, FACTORY_OFFSET_OHM, None, kind="factory")
 
 
 def mapping_from_dict(d: dict) -> LinearMapping:
     kind = d.get("kind")
     common = dict(slope_ohm_per_deg=float(d["slope_ohm_per_deg"]), offset_ohm=float(d["offset_ohm"]),
-                  angle_range_deg=tuple(float(v) for v in d["angle_range_deg"]))
+                  angle_range_deg=None if d.get("angle_range_deg") is None
+                  else tuple(float(v) for v in d["angle_range_deg"]))
     if kind in ("linear", "factory"):
         return LinearMapping(**common, kind=kind)
     if kind == "physical":

@@ -48,3 +48,15 @@ def test_measure_glob(tmp_path):
     out = tmp_path / "angles.csv"
     assert main(["measure", str(tmp_path / "trial_*" / "images"), "--out", str(out), "--jobs", "1"]) == 0
     assert len(pd.read_csv(out)) == 2
+
+
+def test_overlay_names_stay_unique_across_trial_folders(tmp_path):
+    from flexcal.measure import overlay_names
+
+    assert overlay_names([tmp_path / "a.jpg", tmp_path / "b.png"]) == ["a_overlay.jpg", "b_overlay.jpg"]
+    paths = [tmp_path / t / "images" / "step_01.jpg" for t in ("trial_01", "trial_02")]
+    for p in paths:
+        p.parent.mkdir(parents=True)
+        p.touch()
+    names = overlay_names(paths)
+    assert names == ["trial_01__images__step_01_overlay.jpg", "trial_02__images__step_01_overlay.jpg"]
