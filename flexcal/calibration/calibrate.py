@@ -39,7 +39,7 @@ def calibrate(trials: list[Trial], out_dir, *, angles: pd.DataFrame | None = Non
     """Run the whole calibration and write its outputs into ``out_dir``.
 
     Writes ``angles.csv`` (when photos were measured), ``overlays/`` (with ``overlays``),
-    ``pairs.csv``, ``calibration.json``, ``figures/*.png``, ``report.html`` and
+    ``pairs.csv``, ``steps.csv`` (per-step mean and sd across trials), ``calibration.json``, ``figures/*.png``, ``report.html`` and
     ``flexcal_calibration.h``. Returns the calibration.json data plus ``result`` (the
     ``CalibrationResult``) and ``paths``.
     """
@@ -58,12 +58,18 @@ def calibrate(trials: list[Trial], out_dir, *, angles: pd.DataFrame | None = Non
     paths["pairs"] = out / "pairs.csv"
     result.pairs.to_csv(paths["pairs"], index=False, float_format="%.6g")
 
+    paths["steps"] = out / "steps.csv"
+    result.steps.to_csv(paths["steps"], index=False, float_format="%.6g")
+
+    def log_reading(info):
+        return None if info is None else {
+            "dialect": info.dialect, "resistance_unit": info.resistance_unit, "time_source": info.time_source,
+            "angle_source": info.angle_source, "samples": info.n_samples, "unreadable_lines": info.bad_lines}
+
     inputs = {"trials": [{
         "name": t.name, "log": str(t.log), "log_sha256": sha256(t.log),
         "frames": str(t.frames) if t.frames else None, "frames_sha256": sha256(t.frames) if t.frames else None,
-        "log_reading": {"dialect": logs[t.name].dialect, "resistance_unit": logs[t.name].resistance_unit,
-                        "time_source": logs[t.name].time_source, "angle_source": logs[t.name].angle_source,
-                        "samples": logs[t.name].n_samples, "unreadable_lines": logs[t.name].bad_lines},
+        "log_reading": log_reading(logs.get(t.name)),
         "images": [{"file": str(i), "sha256": sha256(i)} for i in t.images]} for t in trials]}
     inputs["angles"] = ({"source": "vision (flexcal.vision)"} if angles is None else
                         {"source": str(angles_path), "sha256": sha256(angles_path) if angles_path else None})
@@ -76,7 +82,13 @@ def calibrate(trials: list[Trial], out_dir, *, angles: pd.DataFrame | None = Non
     write_json(data, paths["calibration"])
     figs = make_figures(result, out / "figures")
     paths["report"] = out / "report.html"
-    write_report(result, data, figs, paths["report"], overlays_dir=overlay_dir)
+    overlay_files = {}
+    if overlay_dir is not None:
+        from flexcal.measure import overlay_names
+
+        images = [img for t in trials for img in t.images]
+        overlay_files = {str(i): overlay_dir / n for i, n in zip(images, overlay_names(images))}
+    write_report(result, data, figs, paths["report"], overlays_dir=overlay_dir, overlays=overlay_files)
     paths["header"] = out / "flexcal_calibration.h"
     paths["header"].write_text(header_text(data))
     return {**data, "result": result, "paths": paths}

@@ -156,15 +156,21 @@ def build_pairs(trials: list[Trial], *, angles: pd.DataFrame | None = None, angl
     """Read, measure and pair every trial.
 
     Returns ``(pairs, angles_table, logs, notes)``: the pairs table (DESIGN.md columns,
-    plus ``step``, ``time_source``, ``status``, ``reason``), the angles table of every
-    photo, ``{trial: LogInfo}`` and a list of notes for the report.
+    plus ``step``, ``time_source``, ``status``, ``reason``, ``pairing_error``), the
+    angles table of every photo, ``{trial: LogInfo}`` and a list of notes for the
+    report. A trial whose log cannot be read or paired keeps its photos as rows with
+    ``pairing_error`` set, and the others carry on.
     """
     if not trials:
         raise FlexcalError("no trials given; use --images DIR --log FILE, or --trials DIR")
     notes: list[str] = []
-    logs, samples = {}, {}
+    logs, samples, broken = {}, {}, {}
     for t in trials:
-        df = read_log(t.log, divider=divider)
+        try:
+            df = read_log(t.log, divider=divider)
+        except FlexcalError as e:   # one bad log must not sink the other trials
+            broken[t.name] = str(e)
+            continue
         samples[t.name], logs[t.name] = df, df.attrs["log"]
         if logs[t.name].bad_lines:
             notes.append(logs[t.name].summary())
@@ -177,12 +183,17 @@ def build_pairs(trials: list[Trial], *, angles: pd.DataFrame | None = None, angl
         angles_source = "vision"
     parts = []
     for t in trials:
-        frames = read_frames(t.frames) if t.frames else None
         a = _angles_for(t, angles, angles_source)
         try:
+            if t.name in broken:
+                raise FlexcalError(broken[t.name])
+            frames = read_frames(t.frames) if t.frames else None
             p, n = pair_trial(t.name, list(t.images), a, samples[t.name], frames=frames, window_s=window_s)
+            p["pairing_error"] = ""
         except FlexcalError as e:
-            raise FlexcalError(f"trial {t.name} ({t.log}): {e}") from None
+            msg = str(e) if str(e).startswith(str(t.log)) else f"{t.log}: {e}"
+            notes.append(f"trial {t.name} left out: {msg}")
+            p, n, frames = _unpaired(t, a, msg), [], None
         if frames is not None and "step" in frames:
             steps = dict(zip(frames["image"], frames["step"]))
             p["step"] = [steps.get(Path(i).name, np.nan) for i in p["image"]]
@@ -191,4 +202,15 @@ def build_pairs(trials: list[Trial], *, angles: pd.DataFrame | None = None, angl
         parts.append(p)
         notes += n
     pairs = pd.concat(parts, ignore_index=True)
-    return pairs[PAIR_COLUMNS + ["step"] + PAIR_EXTRA], angles, logs, notes
+    return pairs[PAIR_COLUMNS + ["step"] + PAIR_EXTRA + ["pairing_error"]], angles, logs, notes
+
+
+def _unpaired(t: Trial, angles: pd.DataFrame, why: str) -> pd.DataFrame:
+    """Rows for a trial that could not be paired: every photo kept, with the reason."""
+    return pd.DataFrame({
+        "trial": t.name, "image": [str(i) for i in t.images], "t_s": np.nan,
+        "angle_actual_deg": angles["angle_deg"].to_numpy(float),
+        "angle_actual_unc_deg": angles["angle_unc_deg"].to_numpy(float), "resistance_ohm": np.nan,
+        "resistance_std_ohm": np.nan, "n_samples": 0, "angle_measured_deg": np.nan, "steady": False,
+        "time_source": "", "status": [s if isinstance(s, str) else "ok" for s in angles["status"]],
+        "reason": [s if isinstance(s, str) else "" for s in angles["reason"]], "pairing_error": why})

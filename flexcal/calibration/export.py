@@ -53,8 +53,17 @@ def calibration_dict(result, *, inputs: dict, parameters: dict) -> dict:
     """Everything a calibration holds, JSON-able (see docs/calibration-json.md)."""
     r = result
 
-    def fit(f, x, y, ref=None):
+    used = r.used
+
+    def span(values):
+        v = np.asarray(values, float)
+        return [float(np.nanmin(v)), float(np.nanmax(v))]
+
+    def fit(f, x, y, ref=None, data=None):
         d = {"x": x, "y": y, **f.to_dict()}
+        data = used if data is None else data
+        if x in data and y in data:   # where the fit holds: the range of the data it was fitted to
+            d["x_range"], d["y_range"] = span(data[x]), span(data[y])
         if ref is not None:
             d["reference"] = {"slope": ref[0], "intercept": ref[1]}
         return d
@@ -75,9 +84,10 @@ def calibration_dict(result, *, inputs: dict, parameters: dict) -> dict:
         p = r.pressure
         models["pressure"] = {
             "contact_area_in2": p.contact_area_in2,
-            "angle_vs_pressure": fit(p.angle_fit, "pressure_psi", "angle_deg", reference.ANGLE_VS_PRESSURE),
+            "angle_vs_pressure": fit(p.angle_fit, "pressure_psi", "angle_deg", reference.ANGLE_VS_PRESSURE,
+                                     p.table),
             "resistance_vs_pressure": fit(p.resistance_fit, "pressure_psi", "resistance_ohm",
-                                          reference.RESISTANCE_VS_PRESSURE),
+                                          reference.RESISTANCE_VS_PRESSURE, p.table),
             "eq19_ratio_ohm_per_deg": p.ratio_ohm_per_deg, "eq19_ratio_se": p.ratio_se,
             "eq19_reference": reference.EQ19_SLOPE,
         }

@@ -73,6 +73,9 @@ def select_pairs(pairs: pd.DataFrame) -> pd.DataFrame:
         reason = reason.where(~m, text if isinstance(text, str) else text[m])
 
     why = pd.Series([s if isinstance(s, str) else "" for s in p["reason"]], index=p.index, dtype=object)
+    if "pairing_error" in p:
+        err = pd.Series([s if isinstance(s, str) else "" for s in p["pairing_error"]], index=p.index, dtype=object)
+        mark(err != "", "trial not paired: " + err)
     angle_nan = ~np.isfinite(p["angle_actual_deg"].astype(float))
     mark(angle_nan, "no photo angle: " + why.replace("", "not measured"))
     mark(~np.isfinite(p["resistance_ohm"].astype(float)), "no serial samples at the photo's time")

@@ -154,20 +154,49 @@ def _img(path) -> str:
     return f'<img src="data:image/png;base64,{data}" alt="{html.escape(Path(path).name)}">'
 
 
+def _cell(c) -> str:
+    c = str(c)
+    return c if c.startswith("<img ") else html.escape(c)
+
+
 def _table(rows, header) -> str:
     head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>" for row in rows)
+    body = "".join("<tr>" + "".join(f"<td>{_cell(c)}</td>" for c in row) + "</tr>" for row in rows)
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
+def _se(x) -> str:
+    """A standard error to two significant digits, without exponent notation."""
+    if not np.isfinite(x) or x == 0:
+        return f"{x:g}"
+    digits = max(0, 1 - int(np.floor(np.log10(abs(x)))))
+    return f"{round(x, digits):.{digits}f}"
+
+
 def _eq(slope, intercept, se_s=None, se_i=None, x="θ", y="R", unit="Ω") -> str:
-    s = f"{y} = {slope:.4g}" + (f" (± {se_s:.2g})" if se_s is not None else "") + f" {x}"
-    s += f" {'+' if intercept >= 0 else '−'} {abs(intercept):.5g}" + (f" (± {se_i:.2g})" if se_i is not None else "")
+    s = f"{y} = {slope:.4g}" + (f" (± {_se(se_s)})" if se_s is not None else "") + f" {x}"
+    s += f" {'+' if intercept >= 0 else '−'} {abs(intercept):.5g}" + (f" (± {_se(se_i)})" if se_i is not None else "")
     return s + f" {unit}"
 
 
-def write_report(result, data: dict, figs: dict, path, *, overlays_dir=None) -> None:
-    """The self-contained report.html (figures embedded as data URIs)."""
+def _thumb(path, width=240) -> str:
+    """An overlay as an embedded JPEG thumbnail ('' when it is not there)."""
+    import cv2
+
+    img = cv2.imread(str(path), cv2.IMREAD_REDUCED_COLOR_4)
+    if img is None:
+        return ""
+    h = max(1, int(round(img.shape[0] * width / img.shape[1])))
+    ok, buf = cv2.imencode(".jpg", cv2.resize(img, (width, h), interpolation=cv2.INTER_AREA),
+                           [cv2.IMWRITE_JPEG_QUALITY, 80])
+    return f'<img class="thumb" src="data:image/jpeg;base64,{base64.b64encode(buf).decode()}" alt="overlay">' if ok else ""
+
+
+def write_report(result, data: dict, figs: dict, path, *, overlays_dir=None, overlays: dict | None = None) -> None:
+    """The self-contained report.html (figures, and the overlays of excluded photos, embedded).
+
+    ``overlays`` maps a photo's path (as in the pairs table) to its overlay file.
+    """
     r = result
     rows = [
         ("15", "R vs firmware angle, first setup", "—", _eq(*reference.EQ15)),
@@ -189,23 +218,26 @@ def write_report(result, data: dict, figs: dict, path, *, overlays_dir=None) -> 
             ("—", "resistance vs pressure", _eq(p.resistance_fit.slope, p.resistance_fit.intercept,
                                                 p.resistance_fit.slope_se, p.resistance_fit.intercept_se, x="p"),
              _eq(*reference.RESISTANCE_VS_PRESSURE, x="p")),
-            ("19", "ratio of the slopes", f"R_pressure = {p.ratio_ohm_per_deg:.4g} (± {p.ratio_se:.2g}) θ Ω",
+            ("19", "ratio of the slopes", f"R_pressure = {p.ratio_ohm_per_deg:.4g} (± {_se(p.ratio_se)}) θ Ω",
              f"R_pressure = {reference.EQ19_SLOPE:g} θ Ω"),
         ]
     rm, pf = r.reference_model, r.physical_fit
     rows += [
         ("20", "R_bending (eq 16) + k·p(θ)·θ/cos((π−θ)/2), reference form",
-         f"k = {rm['pressure_k_ohm_per_psi']:.4g} ± {rm['pressure_k_se']:.2g} Ω/psi; removes "
+         f"k = {rm['pressure_k_ohm_per_psi']:.4g} ± {_se(rm['pressure_k_se'])} Ω/psi; removes "
          f"{100 * rm['share_of_error_removed']:.0f} % of mean |error|", "removes about half of the error"),
         ("20", "physical model, all terms fitted",
-         f"R = {pf['offset_ohm']:.5g} (± {pf['offset_se']:.2g}) + {pf['slope_ohm_per_deg']:.4g} "
-         f"(± {pf['slope_se']:.2g}) θ + {pf['pressure_k_ohm_per_psi']:.4g} (± {pf['pressure_k_se']:.2g})·p(θ)·θ/cos((π−θ)/2)",
+         f"R = {pf['offset_ohm']:.5g} (± {_se(pf['offset_se'])}) + {pf['slope_ohm_per_deg']:.4g} "
+         f"(± {_se(pf['slope_se'])}) θ + {pf['pressure_k_ohm_per_psi']:.4g} (± {_se(pf['pressure_k_se'])})"
+         "·p(θ)·θ/cos((π−θ)/2)",
          "—"),
     ]
     val_rows = [(v["mapping"], f"{v['rmse_deg']:.2f}", f"{v['bias_deg']:+.2f}", f"{v['max_abs_deg']:.2f}", v["n"],
                  v["validation"]) for v in data["validation"]]
     excl = data["pairs"]["excluded"]
-    excl_rows = [(e["trial"], Path(e["image"]).name, e["reason"]) for e in excl]
+    overlays = overlays or {}
+    excl_rows = [(e["trial"], Path(e["image"]).name, e["reason"],
+                  _thumb(overlays[e["image"]]) if e["image"] in overlays else "") for e in excl]
     inputs = data["inputs"]
     in_rows = [(t["name"], t["log"], t["log_sha256"][:12], len(t["images"]), t.get("frames") or "—")
                for t in inputs["trials"]]
@@ -219,7 +251,7 @@ def write_report(result, data: dict, figs: dict, path, *, overlays_dir=None) -> 
 body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }}
 table {{ border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }}
 td, th {{ border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }}
-th {{ background: #f2f2f2; }} figure {{ display: inline-block; margin: 0.3em; }} img {{ max-width: 520px; }}
+th {{ background: #f2f2f2; }} figure {{ display: inline-block; margin: 0.3em; }} img {{ max-width: 520px; }} img.thumb {{ max-width: 240px; }}
 .big {{ font-size: 1.15em; }}
 </style></head><body>
 <h1>flexcal calibration report</h1>
@@ -235,7 +267,7 @@ Recommended mapping: <b>{html.escape(data['recommended_mapping'])}</b> (calibrat
 <h2>Figures</h2>
 {fig_html}
 <h2>Excluded pairs ({len(excl)})</h2>
-{_table(excl_rows, ["trial", "photo", "why"]) if excl_rows else "<p>none</p>"}
+{_table(excl_rows, ["trial", "photo", "why", "overlay"]) if excl_rows else "<p>none</p>"}
 {ov}
 <h2>Notes</h2><ul>{notes}</ul>
 <h2>Inputs</h2>

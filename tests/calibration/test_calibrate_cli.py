@@ -130,3 +130,21 @@ def test_mismatched_images_and_logs(experiment, tmp_path, capsys):
     rc = main(["calibrate", "--images", str(experiment / "trial_01" / "images"), str(experiment / "trial_02" / "images"),
                "--log", str(experiment / "trial_01" / "serial.csv"), "--out", str(tmp_path / "o")])
     assert rc == 2 and "2 --images folder(s) but 1 --log" in capsys.readouterr().err
+
+
+def test_a_broken_trial_is_left_out_and_the_rest_carries_on(experiment, tmp_path, capsys):
+    exp = tmp_path / "exp"
+    for t in ("trial_01", "trial_02", "trial_03"):
+        shutil.copytree(experiment / t, exp / t)
+    (exp / "trial_02" / "serial.csv").write_text("# the glove was unplugged\n")
+    out = tmp_path / "out"
+    assert main(["calibrate", "--trials", str(exp), "--angles", str(experiment / "angles.csv"), "--out", str(out)]) == 0
+    data = json.loads((out / "calibration.json").read_text())
+    assert data["pairs"] == {**data["pairs"], "total": 30, "used": 20}
+    reasons = {e["reason"] for e in data["pairs"]["excluded"]}
+    assert len(reasons) == 1 and reasons.pop().startswith("trial not paired: ")
+    assert any("trial trial_02 left out" in n and "no data lines" in n for n in data["notes"])
+    assert data["inputs"]["trials"][1]["log_reading"] is None
+    assert len(pd.read_csv(out / "pairs.csv")) == 30
+    steps = pd.read_csv(out / "steps.csv")
+    assert len(steps) == 10 and (steps["n"] == 2).all()
