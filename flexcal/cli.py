@@ -84,6 +84,24 @@ def cmd_measure(args) -> int:
     return 0
 
 
+def cmd_remeasure(args) -> int:
+    from flexcal.remeasure import remeasure
+
+    s = remeasure(args.trials, args.out, reference=args.reference, jobs=args.jobs, worst=args.worst)
+    st = s["status"]
+    print(f"re-measured {s['photos']} photo(s): " + ", ".join(f"{st.get(k, 0)} {k}" for k in
+                                                            ("ok", "low_confidence", "failed"))
+          + f"; angles: {args.out}/angles.csv, overlays: {args.out}/overlays/")
+    if "bland_altman" in s:
+        b = s["bland_altman"]
+        print(f"against {args.reference} ({s['mapping']}): {b['n']} compared, {s['not_compared']} not; "
+              f"bias {b['bias_deg']:+.2f} deg, limits of agreement {b['loa_low_deg']:+.2f} ... {b['loa_high_deg']:+.2f} "
+              f"deg, MAE {b.get('mae_deg', float('nan')):.2f} deg")
+        print(f"per photo (worst first): {args.out}/comparison.csv; plot: {args.out}/bland_altman.png; "
+              f"worst photos: {args.out}/worst.png")
+    return 0
+
+
 def _divider(args):
     from flexcal.divider import Divider
 
@@ -182,6 +200,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=["auto", "contour", "markers"], default="auto")
     p.add_argument("--jobs", type=int, default=None, help="parallel processes (default: one per core)")
     p.set_defaults(func=cmd_measure)
+
+    p = sub.add_parser("remeasure", help="re-measure old trials' photos and compare with a hand-measured reference")
+    p.add_argument("trials", nargs="+", metavar="TRIAL_DIR", help="trial folders (photos in images/ or in the folder)")
+    p.add_argument("--reference", metavar="FILE", help="ImageJ Results (.csv/.txt) or an image,angle_deg CSV")
+    p.add_argument("--out", default="remeasure", metavar="DIR", help="output folder (default ./remeasure)")
+    p.add_argument("--worst", type=int, default=12, help="how many of the most disagreeing photos to show")
+    p.add_argument("--jobs", type=int, default=None, help="parallel processes (default: one per core)")
+    p.set_defaults(func=cmd_remeasure)
 
     p = sub.add_parser("calibrate", help="measure photos, pair them with the serial log, fit, validate, report")
     add_calibrate_args(p)
