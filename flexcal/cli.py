@@ -102,6 +102,70 @@ def cmd_remeasure(args) -> int:
     return 0
 
 
+def cmd_capture(args) -> int:
+    from flexcal.capture.frames import FrameSource
+    from flexcal.capture.serial_reader import SerialReader
+    from flexcal.capture.session import TrialRecorder, run_capture
+
+    frames = FrameSource(args.camera, fps=args.fps)
+    reader = SerialReader(args.port, baud=args.baud, reconnect=True)
+    recorder = TrialRecorder(args.out, meta={"port": args.port, "baud": args.baud, "camera": str(args.camera),
+                                             "mode": "manual" if args.manual else "auto", "hold_s": args.hold_s,
+                                             "steps_deg": list(args.steps)})
+    with reader, frames:
+        try:
+            s = run_capture(reader, frames, recorder, args.steps, mode="manual" if args.manual else "auto",
+                            hold_s=args.hold_s)
+        except FlexcalError:
+            recorder.finish()
+            raise
+    clock = s["clock_fit"] or {}
+    jit = clock.get("latency_after_fit", {})
+    print(f"recorded {s['photos']} photo(s) and {s['samples']} samples in {args.out}"
+          + (f"; clock drift {clock['drift_ppm']:+.0f} ppm, USB latency after the fit median "
+             f"{1000 * jit['median_s']:.1f} ms, p95 {1000 * jit['p95_s']:.1f} ms" if clock else "")
+          + (f"; {s['unreadable_lines']} unreadable line(s)" if s["unreadable_lines"] else ""))
+    print(f"next: calibrate --images {args.out}/images --log {args.out}/serial.csv")
+    return 0
+
+
+def cmd_monitor(args) -> int:
+    import time
+
+    from flexcal.capture.serial_reader import SerialReader
+    from flexcal.capture.logs import parse_text_line
+    from flexcal.capture.protocol import Comment, Sample, parse_line
+
+    cal = None
+    if args.calibration:
+        from flexcal.calibration import load
+
+        cal = load(args.calibration)
+    end = time.monotonic() + args.duration if args.duration else None
+    with SerialReader(args.port, baud=args.baud, reconnect=True) as reader:
+        print("t_host_s,t_ms,resistance_ohm,angle_deg" + (",angle_corrected_deg" if cal else ""), flush=True)
+        while end is None or time.monotonic() < end:
+            item = reader.get(timeout=0.1)
+            if item is None or not hasattr(item, "text"):
+                if item is not None:
+                    print(f"# {item.kind}: {item.detail}", flush=True)
+                continue
+            try:
+                p = parse_line(item.text)
+            except ValueError:
+                v = parse_text_line(item.text)
+                p = Sample(-1, float("nan"), v["resistance_ohm"], float("nan")) if v and "resistance_ohm" in v else None
+            if isinstance(p, Comment):
+                print(f"# {p.text}", flush=True)
+            elif isinstance(p, Sample):
+                row = f"{item.t_host_s:.3f},{p.t_ms if p.t_ms >= 0 else ''},{p.resistance_ohm:.1f},{p.angle_deg:.2f}"
+                if cal is not None:
+                    a = float(cal.angle_deg(p.resistance_ohm, extrapolate=True))
+                    row += f",{a:.2f}"
+                print(row, flush=True)
+    return 0
+
+
 def _divider(args):
     from flexcal.divider import Divider
 
@@ -200,6 +264,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=["auto", "contour", "markers"], default="auto")
     p.add_argument("--jobs", type=int, default=None, help="parallel processes (default: one per core)")
     p.set_defaults(func=cmd_measure)
+
+    p = sub.add_parser("capture", help="record a trial: photos and serial readings on one clock")
+    p.add_argument("--port", required=True, help="serial port (/dev/ttyACM0, COM3) or pyserial URL (socket://, loop://)")
+    p.add_argument("--camera", required=True, help="camera index (0), a video file, or a folder of images")
+    p.add_argument("--out", required=True, metavar="TRIAL_DIR", help="new trial folder to write")
+    p.add_argument("--steps", type=parse_angles, default=tuple(range(0, 91, 10)),
+                   help="step angles in degrees, start:stop:step or a list (default 0:90:10)")
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument("--auto", action="store_true", help="photo once the reading is steady (default)")
+    mode.add_argument("--manual", action="store_true", help="photo when you press Enter")
+    p.add_argument("--hold-s", type=float, default=1.0, help="auto: steady this long before the photo (default 1)")
+    p.add_argument("--baud", type=int, default=115200)
+    p.add_argument("--fps", type=float, default=None, help="frame rate of a video file or image folder")
+    p.set_defaults(func=cmd_capture)
+
+    p = sub.add_parser("monitor", help="print the glove's live stream (with --calibration, corrected angles too)")
+    p.add_argument("--port", required=True, help="serial port or pyserial URL")
+    p.add_argument("--calibration", metavar="JSON", help="calibration.json for a corrected-angle column")
+    p.add_argument("--baud", type=int, default=115200)
+    p.add_argument("--duration", type=float, default=None, help="stop after this many seconds")
+    p.set_defaults(func=cmd_monitor)
 
     p = sub.add_parser("remeasure", help="re-measure old trials' photos and compare with a hand-measured reference")
     p.add_argument("trials", nargs="+", metavar="TRIAL_DIR", help="trial folders (photos in images/ or in the folder)")

@@ -415,3 +415,25 @@ def time_backwards(df: pd.DataFrame) -> str | None:
         if note.startswith("time goes backwards"):
             return note
     return None
+
+
+def parse_text_line(text: str) -> dict | None:
+    """Values in one live line that is not the firmware protocol: ``Resistance: 45000 ohms``,
+    ``ADC: 512``, or a bare number (a resistance; kΩ when below 1000). Keys are the samples
+    table's columns; None when the line holds no value."""
+    s = text.strip()
+    found = {}
+    for label, unit_in_paren, num, unit in _LABEL_VALUE.findall(s):
+        key = _canonical(_clean_name(label)[0])
+        if key is None:
+            continue
+        v = float(num)
+        if key == "resistance_ohm":
+            v *= _unit_scale(unit or unit_in_paren) or (1e3 if v < 1000 else 1.0)
+        found[key] = v
+    if not found:
+        m = _BARE.match(s)
+        if m:
+            v = float(m.group(1))
+            found["resistance_ohm"] = v * (_unit_scale(m.group(2) or "") or (1e3 if v < 1000 else 1.0))
+    return found or None

@@ -9,6 +9,8 @@ within a few noise widths.
 
 from __future__ import annotations
 
+from collections import deque
+
 import numpy as np
 import pandas as pd
 
@@ -49,8 +51,71 @@ def steady_mask(t_s, resistance_ohm, *, window_s: float = 0.5, tolerance: float 
     sd = r.rolling(w, center=True, min_periods=max(2, w // 2)).std().to_numpy()
     sigma = noise_ohm(r) if noise is None else noise
     level = np.nanmedian(np.abs(r)) if r.notna().any() else 0.0
-    limit = max(tolerance * (sigma if np.isfinite(sigma) else 0.0), 5e-4 * level)
-    return np.nan_to_num(sd, nan=np.inf) <= limit
+    return np.nan_to_num(sd, nan=np.inf) <= steady_limit(sigma, level, tolerance)
+
+
+def steady_limit(noise: float, level: float, tolerance: float = 3.0) -> float:
+    """The largest window standard deviation (ohm) that still counts as steady: ``tolerance``
+    noise widths, with a floor of 0.05 % of the level (a noiseless stream)."""
+    return max(tolerance * (noise if np.isfinite(noise) else 0.0), 5e-4 * abs(level))
+
+
+class SteadyTracker:
+    """Online steadiness of a live stream, by the same rule as ``steady_mask``.
+
+    ``update(t_s, r)`` with each sample; ``steady_for_s`` says how long the signal has
+    been steady (0 when it is not). The noise is estimated from the recent history.
+    """
+
+    def __init__(self, *, window_s: float = 0.5, tolerance: float = 3.0, history_s: float = 10.0,
+                 check_every_s: float = 0.02):
+        self.window_s, self.tolerance, self.history_s = window_s, tolerance, history_s
+        self.check_every_s = check_every_s
+        self._last_check: float | None = None
+        self._last_t = float("nan")
+        self._t: deque = deque()
+        self._r: deque = deque()
+        self._since: float | None = None
+        self.noise = float("nan")
+        self._n = 0
+
+    def update(self, t_s: float, r: float) -> bool:
+        if not np.isfinite(r):
+            self._since = None
+            return False
+        self._t.append(t_s)
+        self._r.append(r)
+        while self._t and self._t[0] < t_s - self.history_s:
+            self._t.popleft()
+            self._r.popleft()
+        self._n += 1
+        self._last_t = t_s
+        if self._last_check is not None and t_s - self._last_check < self.check_every_s:
+            return self._since is not None      # at high rates, judge every check_every_s only
+        self._last_check = t_s
+        if self._n % 25 == 1 or not np.isfinite(self.noise):
+            self.noise = noise_ohm(self._r)
+        t = np.asarray(self._t)
+        win = np.asarray(self._r)[t >= t_s - self.window_s]
+        steady = win.size >= 3 and t_s - t[0] >= self.window_s and \
+            float(np.std(win, ddof=1)) <= steady_limit(self.noise, float(np.median(win)), self.tolerance)
+        if steady and self._since is None:
+            self._since = t_s
+        elif not steady:
+            self._since = None
+        return steady
+
+    @property
+    def steady_for_s(self) -> float:
+        return 0.0 if self._since is None else self._last_t - self._since
+
+    def level(self, window_s: float | None = None) -> float:
+        """Median of the last ``window_s`` seconds (default: the steadiness window)."""
+        t = np.asarray(self._t)
+        if not t.size:
+            return float("nan")
+        w = np.asarray(self._r)[t >= t[-1] - (window_s or self.window_s)]
+        return float(np.median(w))
 
 
 def find_plateaus(t_s, resistance_ohm, *, min_hold_s: float = 1.0, window_s: float = 0.5,

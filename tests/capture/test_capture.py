@@ -1,0 +1,188 @@
+"""Capture against a fake glove on a pseudo-terminal: reader, clock fit, frames, a recorded trial."""
+
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import cv2
+import numpy as np
+import pandas as pd
+import pytest
+
+from flexcal.capture.clock import ClockFit
+from flexcal.capture.frames import FrameSource
+from flexcal.capture.logs import read_log
+from flexcal.capture.serial_reader import Event, Line, SerialReader
+from flexcal.cli import main
+from flexcal.errors import FlexcalError
+from flexcal.synthetic.device import FakeGlove
+from flexcal.synthetic.sensor import DeviceClock, SensorModel
+
+
+def _drain(reader, seconds):
+    out, end = [], time.monotonic() + seconds
+    while time.monotonic() < end:
+        item = reader.get(timeout=0.05)
+        if item is not None:
+            out.append(item)
+    return out
+
+
+def test_reader_stamps_lines_and_bounds_garbage():
+    with SerialReader("loop://", max_line=100) as r:
+        r.write(b"# hello\r\n1000,512.00,47045.9,27.33\r\n")
+        r.write(bytes(b for b in range(256) if b != 10) * 4)   # binary noise without a newline
+        r.write(b"\n1020,512.00,47045.9,27.33\r\n")
+        items = _drain(r, 0.5)
+    lines = [i for i in items if isinstance(i, Line)]
+    assert [x.text for x in lines][:2] == ["# hello", "1000,512.00,47045.9,27.33"]
+    assert lines[-1].text == "1020,512.00,47045.9,27.33"
+    assert any(isinstance(i, Event) and i.kind == "overlong" for i in items)
+    assert all(len(x.text) <= 100 for x in lines)
+    assert all(abs(x.t_host_s - time.monotonic()) < 5 for x in lines)
+
+
+def test_missing_port_is_one_line():
+    with pytest.raises(FlexcalError, match="--port /dev/nonexistent_flexcal: no such port"):
+        SerialReader("/dev/nonexistent_flexcal").start()
+
+
+def test_reader_reports_a_disconnect_and_keeps_lines():
+    glove = FakeGlove(rate_hz=100)
+    with SerialReader(glove.port) as r:
+        glove.start()
+        time.sleep(0.5)
+        glove.stop()                              # the cable is pulled
+        items = _drain(r, 0.6)
+    assert sum(isinstance(i, Line) for i in items) > 20
+    assert any(isinstance(i, Event) and i.kind == "disconnected" for i in items)
+
+
+def test_clock_fit_recovers_drift_and_removes_jitter():
+    rng = np.random.default_rng(4)
+    t = np.arange(0, 300, 0.02)
+    dev = 3.0 + t * (1 + 80e-6)
+    lat = 0.002 + rng.exponential(0.002, t.size)
+    lat[rng.random(t.size) < 0.02] += 0.08       # USB latency spikes
+    c = ClockFit()
+    for d, h in zip(dev, 500 + t + lat):
+        c.add(d, h)
+    assert c.drift_ppm == pytest.approx(-80, abs=5)
+    err = c.host_time(dev) - (500 + t)
+    assert np.abs(err - 0.002).max() < 0.003     # within the fixed minimum latency, spikes gone
+    assert c.jitter_s()["max_s"] > 0.07          # and the spikes are reported
+
+
+def test_frame_source_plays_a_video_file_in_time(tmp_path):
+    path = tmp_path / "v.avi"
+    w = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 20, (64, 48))
+    for i in range(40):
+        w.write(np.full((48, 64, 3), i * 6, np.uint8))
+    w.release()
+    with FrameSource(str(path)) as src:
+        assert src.fps == pytest.approx(20)
+        f0, t0, i0 = src.latest()
+        time.sleep(0.5)
+        f1, t1, i1 = src.latest()
+    assert 7 <= i1 - i0 <= 13 and t1 > t0
+    assert abs(int(f1.mean()) - i1 * 6) <= 3     # the frame is the one its index says
+
+
+def test_frame_source_errors(tmp_path):
+    with pytest.raises(FlexcalError, match="no such file"):
+        FrameSource(str(tmp_path / "none.mp4"))
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(FlexcalError, match="no images"):
+        FrameSource(str(tmp_path / "empty"))
+
+
+@pytest.fixture
+def camera(tmp_path):
+    d = tmp_path / "cam"
+    d.mkdir()
+    for i in range(200):
+        cv2.imwrite(str(d / f"{i:04d}.png"), np.full((48, 64, 3), i % 250, np.uint8))
+    return d
+
+
+def _script(angles, hold_s=2.2, lead_s=0.8):
+    m = SensorModel()
+    return [(0.0 if i == 0 else lead_s + hold_s * i, float(m.resistance_ohm(a))) for i, a in enumerate(angles)]
+
+
+def test_capture_auto_records_a_trial_on_one_clock(tmp_path, camera, capsys):
+    angles = (0, 30, 60)
+    script = _script(angles)
+    glove = FakeGlove(script, noise_ohm=40, seed=3, clock=DeviceClock(boot_ms=4000, drift_ppm=50))
+    out = tmp_path / "trial"
+    glove.start(delay_s=0.4)
+    try:
+        rc = main(["capture", "--port", glove.port, "--camera", str(camera), "--fps", "20", "--out", str(out),
+                   "--steps", "0,30,60", "--hold-s", "0.8"])
+    finally:
+        glove.stop()
+    assert rc == 0
+    frames = pd.read_csv(out / "frames.csv")
+    assert list(frames["target_deg"]) == [0, 30, 60]
+    # each photo sits in its step, and the reading there is the script's resistance
+    np.testing.assert_allclose(frames["resistance_ohm"], [r for _, r in script], rtol=0.01)
+    serial_log = read_log(out / "serial.csv")
+    assert serial_log["t_s"].is_monotonic_increasing
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["firmware_banner"][0].startswith("flexcal-firmware") and meta["photos"] == 3
+    assert abs(meta["clock_fit"]["drift_ppm"] + 50) < 400
+    # photo times and serial times share the host clock: the reading at each photo time is its step's
+    for _, f in frames.iterrows():
+        near = serial_log[(serial_log["t_s"] - f["t_s"]).abs() < 0.2]["resistance_ohm"]
+        assert near.median() == pytest.approx(f["resistance_ohm"], rel=0.01)
+    assert len(list((out / "images").glob("*.png"))) == 3
+
+
+def test_capture_refuses_a_used_folder_and_silent_devices(tmp_path, camera):
+    used = tmp_path / "used"
+    used.mkdir()
+    (used / "serial.csv").write_text("keep me\n")
+    glove = FakeGlove()
+    try:
+        assert main(["capture", "--port", glove.port, "--camera", str(camera), "--out", str(used)]) == 2
+        assert (used / "serial.csv").read_text() == "keep me\n"
+    finally:
+        glove.stop()
+    silent = FakeGlove(rate_hz=1e-3)      # a device that never sends a sample
+    silent.garbage = b"\xff\xfe garbage at the wrong baud \xff\n" * 3
+    silent.start()
+    from flexcal.capture.session import TrialRecorder, run_capture
+    try:
+        rec = TrialRecorder(tmp_path / "t2", meta={})
+        with SerialReader(silent.port) as r, FrameSource(str(camera)) as cam:
+            with pytest.raises(FlexcalError, match="no samples in 1 s"):
+                run_capture(r, cam, rec, [0], no_data_timeout_s=1.0)
+    finally:
+        silent.stop()
+    rec.finish()
+    assert (tmp_path / "t2" / "serial.csv").read_text().startswith("t_s,")
+
+
+def test_a_killed_capture_leaves_a_readable_folder(tmp_path, camera):
+    glove = FakeGlove(_script((0, 30, 60, 90), hold_s=30), noise_ohm=40)
+    out = tmp_path / "killed"
+    glove.start(delay_s=0.5)
+    proc = subprocess.Popen([sys.executable, "-m", "flexcal", "capture", "--port", glove.port, "--camera",
+                             str(camera), "--out", str(out), "--steps", "0,30,60,90"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline and not (out / "frames.csv").exists() or \
+                len((out / "frames.csv").read_text().splitlines()) < 2:
+            time.sleep(0.2)
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=10)
+    finally:
+        glove.stop()
+    df = read_log(out / "serial.csv")
+    assert len(df) > 50 and df["resistance_ohm"].notna().all()
+    assert len(pd.read_csv(out / "frames.csv")) == 1
+    json.loads((out / "meta.json").read_text())
