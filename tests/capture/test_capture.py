@@ -186,3 +186,51 @@ def test_a_killed_capture_leaves_a_readable_folder(tmp_path, camera):
     assert len(df) > 50 and df["resistance_ohm"].notna().all()
     assert len(pd.read_csv(out / "frames.csv")) == 1
     json.loads((out / "meta.json").read_text())
+
+
+def test_manual_mode_takes_the_photo_when_asked(tmp_path, camera):
+    from flexcal.capture.session import TrialRecorder, run_capture
+
+    class Keys:   # the user presses Enter 0.6 s into each step
+        def __init__(self):
+            self.t = None
+
+        def pressed(self):
+            now = time.monotonic()
+            self.t = self.t or now
+            if now - self.t > 0.6:
+                self.t = None
+                return True
+            return False
+
+    glove = FakeGlove(_script((0, 45)), noise_ohm=40)
+    rec = TrialRecorder(tmp_path / "t", meta={})
+    with SerialReader(glove.port) as r, FrameSource(str(camera), fps=20) as cam:
+        glove.start()
+        try:
+            s = run_capture(r, cam, rec, [0, 45], mode="manual", keys=Keys())
+        finally:
+            glove.stop()
+    assert s["photos"] == 2
+    assert len(pd.read_csv(tmp_path / "t" / "frames.csv")) == 2
+
+
+def test_monitor_prints_the_stream_with_corrected_angles(tmp_path, capsys):
+    from flexcal.calibration.export import SCHEMA, SCHEMA_VERSION
+    from flexcal.calibration.mapping import FACTORY, LinearMapping
+
+    cal = {"schema": SCHEMA, "schema_version": SCHEMA_VERSION, "recommended_mapping": "empirical",
+           "mappings": {"factory": FACTORY.to_dict(), "empirical": LinearMapping(587.1, 34400.0, (0, 90)).to_dict()}}
+    (tmp_path / "cal.json").write_text(json.dumps(cal))
+    glove = FakeGlove([(0, 52_000.0)], rate_hz=50)
+    glove.start(delay_s=0.3)
+    try:
+        assert main(["monitor", "--port", glove.port, "--calibration", str(tmp_path / "cal.json"),
+                     "--duration", "1.0"]) == 0
+    finally:
+        glove.stop()
+    rows = [line.split(",") for line in capsys.readouterr().out.splitlines() if line[:1].isdigit()]
+    assert len(rows) > 20
+    r, factory, corrected = (float(rows[-1][i]) for i in (2, 3, 4))
+    assert factory == pytest.approx((r - 31250) / 577.9, abs=0.01)
+    assert corrected == pytest.approx((r - 34400) / 587.1, abs=0.01)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
+FIRMWARE = Path(__file__).resolve().parents[1] / "firmware"
 ELF = FIRMWARE / "flexcal_glove" / "build-uno" / "flexcal_glove_.elf"
 SIM = FIRMWARE / "build" / "flexcal_sim"
 PACKAGES = "gcc-avr avr-libc arduino-core-avr arduino-mk simavr libsimavr-dev libsimavrparts1 libelf-dev pkg-config"
