@@ -132,9 +132,9 @@ def cmd_capture(args) -> int:
 def cmd_monitor(args) -> int:
     import time
 
+    from flexcal.capture.protocol import Comment, Sample
     from flexcal.capture.serial_reader import SerialReader
-    from flexcal.capture.logs import parse_text_line
-    from flexcal.capture.protocol import Comment, Sample, parse_line
+    from flexcal.capture.session import parse_live_line
 
     cal = None
     if args.calibration:
@@ -151,10 +151,10 @@ def cmd_monitor(args) -> int:
                     print(f"# {item.kind}: {item.detail}", flush=True)
                 continue
             try:
-                p = parse_line(item.text)
+                p = parse_live_line(item.text)
             except ValueError:
-                v = parse_text_line(item.text)
-                p = Sample(-1, float("nan"), v["resistance_ohm"], float("nan")) if v and "resistance_ohm" in v else None
+                print(f"# unreadable: {item.text[:60]!r}", flush=True)
+                continue
             if isinstance(p, Comment):
                 print(f"# {p.text}", flush=True)
             elif isinstance(p, Sample):

@@ -40,6 +40,20 @@ def _num(x, digits):
     return "" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.{digits}f}"
 
 
+def parse_live_line(text: str):
+    """A line from a device: the firmware protocol, else what ``read_log``'s dialects hold
+    (``Resistance: 45000 ohms``, a bare number). Returns a Sample (``t_ms`` -1 when the
+    line has no device time), Comment, Header or None; ValueError when unreadable."""
+    try:
+        return parse_line(text)
+    except ValueError:
+        values = parse_text_line(text)
+        if values is None or "resistance_ohm" not in values:
+            raise
+        r = values["resistance_ohm"]
+        return Sample(-1, values.get("adc", float("nan")), r, values.get("angle_deg", float(factory_angle_deg(r))))
+
+
 class TrialRecorder:
     """Writes one trial folder (DESIGN.md) as data arrives."""
 
@@ -82,16 +96,12 @@ class TrialRecorder:
         if not isinstance(item, Line):
             return None
         try:
-            p = parse_line(item.text)
+            p = parse_live_line(item.text)
         except ValueError as e:
-            values = parse_text_line(item.text)
-            if values is None or "resistance_ohm" not in values:
-                self.bad_lines += 1
-                if len(self.bad_examples) < 5:
-                    self.bad_examples.append(f"{item.text[:40]!r}: {e}")
-                return None
-            p = Sample(-1, values.get("adc", float("nan")), values["resistance_ohm"],
-                       values.get("angle_deg", float(factory_angle_deg(values["resistance_ohm"]))))
+            self.bad_lines += 1
+            if len(self.bad_examples) < 5:
+                self.bad_examples.append(f"{item.text[:40]!r}: {e}")
+            return None
         if p is None:
             return None
         if isinstance(p, Comment):
@@ -138,11 +148,14 @@ class TrialRecorder:
                 f.close()
         clock = self.clock.summary() if self.clock.offset is not None else None
         if clock is not None and self.samples:
-            df = pd.read_csv(self.out / "serial.csv")
-            has_dev = df["t_device_ms"].notna()
-            df.loc[has_dev, "t_s"] = self.clock.host_time(df.loc[has_dev, "t_device_ms"].to_numpy(float) / 1000.0)
+            # every sample's t_s from the final fit, in chunks (a long session does not fit in memory)
             tmp = self.out / "serial.csv.tmp"
-            df.to_csv(tmp, index=False, float_format="%.6f")
+            with open(tmp, "w", newline="") as f:
+                for i, df in enumerate(pd.read_csv(self.out / "serial.csv", chunksize=200_000)):
+                    has_dev = df["t_device_ms"].notna()
+                    df.loc[has_dev, "t_s"] = self.clock.host_time(
+                        df.loc[has_dev, "t_device_ms"].to_numpy(float) / 1000.0)
+                    df.to_csv(f, index=False, header=i == 0, float_format="%.6f")
             os.replace(tmp, self.out / "serial.csv")
         summary = {"samples": self.samples, "photos": self.photos, "unreadable_lines": self.bad_lines,
                    "unreadable_examples": self.bad_examples, "events": self.events, "clock_fit": clock,

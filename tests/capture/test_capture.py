@@ -234,3 +234,37 @@ def test_monitor_prints_the_stream_with_corrected_angles(tmp_path, capsys):
     r, factory, corrected = (float(rows[-1][i]) for i in (2, 3, 4))
     assert factory == pytest.approx((r - 31250) / 577.9, abs=0.01)
     assert corrected == pytest.approx((r - 34400) / 587.1, abs=0.01)
+
+
+def test_live_lines_of_other_dialects():
+    from flexcal.capture.protocol import Sample
+    from flexcal.capture.session import parse_live_line
+
+    assert parse_live_line("1000,512.00,47045.9,27.33") == Sample(1000, 512.0, 47045.9, 27.33)
+    s = parse_live_line("Resistance: 45.2 kohms")
+    assert s.t_ms == -1 and s.resistance_ohm == pytest.approx(45_200)
+    assert s.angle_deg == pytest.approx((45_200 - 31_250) / 577.9)
+    with pytest.raises(ValueError):
+        parse_live_line("\x00\xff garbage")
+
+
+def test_reader_reconnects_when_the_port_comes_back(tmp_path):
+    link = tmp_path / "ttyGLOVE"               # a stable name, as udev gives a real glove
+    first = FakeGlove([(0, 45_000.0)], rate_hz=100)
+    link.symlink_to(first.port)
+    with SerialReader(str(link), reconnect=True, retry_s=0.1) as r:
+        first.start()
+        time.sleep(0.4)
+        first.stop()                           # unplugged
+        second = FakeGlove([(0, 60_000.0)], rate_hz=100)
+        link.unlink()
+        link.symlink_to(second.port)           # plugged back in
+        second.start(delay_s=0.5)
+        try:
+            items = _drain(r, 2.0)
+        finally:
+            second.stop()
+    kinds = [i.kind for i in items if isinstance(i, Event)]
+    assert "disconnected" in kinds and "reconnected" in kinds
+    after = items[[getattr(i, "kind", "") for i in items].index("reconnected"):]
+    assert any(isinstance(i, Line) and ",60" in i.text for i in after)   # the new glove's readings arrive

@@ -3,7 +3,6 @@ camera -> `flexcal capture --auto` -> `calibrate` on the trial it wrote."""
 
 import json
 import subprocess
-import time
 
 import cv2
 import numpy as np
