@@ -74,8 +74,8 @@ def main() -> int:
         sent = json.loads(child.stdout.readline())["sent"]
         child.wait(timeout=10)
         summary = rec.finish()
+        peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024   # before this script's own analysis
         df = pd.read_csv(Path(tmp) / "trial" / "serial.csv")
-    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     # when each sample was generated, on the host clock: invert the device clock
     t_gen = t0 + (df["t_device_ms"].to_numpy(float) - 3000) / 1000.0 / (1 + 40e-6)
     err_ms = 1000 * (df["t_s"].to_numpy() - t_gen)

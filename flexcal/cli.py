@@ -108,17 +108,25 @@ def cmd_capture(args) -> int:
     from flexcal.capture.session import TrialRecorder, run_capture
 
     frames = FrameSource(args.camera, fps=args.fps)
-    reader = SerialReader(args.port, baud=args.baud, reconnect=True)
-    recorder = TrialRecorder(args.out, meta={"port": args.port, "baud": args.baud, "camera": str(args.camera),
-                                             "mode": "manual" if args.manual else "auto", "hold_s": args.hold_s,
-                                             "steps_deg": list(args.steps)})
-    with reader, frames:
+    try:
+        reader = SerialReader(args.port, baud=args.baud, reconnect=True).start()   # a bad port fails before any file
+    except FlexcalError:
+        frames.close()
+        raise
+    try:
+        recorder = TrialRecorder(args.out, meta={"port": args.port, "baud": args.baud, "camera": str(args.camera),
+                                                 "mode": "manual" if args.manual else "auto", "hold_s": args.hold_s,
+                                                 "steps_deg": list(args.steps)})
+        frames.start()
         try:
             s = run_capture(reader, frames, recorder, args.steps, mode="manual" if args.manual else "auto",
                             hold_s=args.hold_s)
         except FlexcalError:
             recorder.finish()
             raise
+    finally:
+        reader.close()
+        frames.close()
     clock = s["clock_fit"] or {}
     jit = clock.get("latency_after_fit", {})
     print(f"recorded {s['photos']} photo(s) and {s['samples']} samples in {args.out}"

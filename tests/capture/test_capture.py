@@ -268,3 +268,10 @@ def test_reader_reconnects_when_the_port_comes_back(tmp_path):
     assert "disconnected" in kinds and "reconnected" in kinds
     after = items[[getattr(i, "kind", "") for i in items].index("reconnected"):]
     assert any(isinstance(i, Line) and ",60" in i.text for i in after)   # the new glove's readings arrive
+
+
+def test_a_bad_port_fails_before_any_file_is_written(tmp_path, camera, capsys):
+    out = tmp_path / "t"
+    assert main(["capture", "--port", "/dev/nonexistent_flexcal", "--camera", str(camera), "--out", str(out)]) == 2
+    assert "no such port" in capsys.readouterr().err
+    assert not out.exists()
