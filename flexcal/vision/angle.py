@@ -376,7 +376,11 @@ def _measure_contour(bgr):
         reasons.append("much of an arm's outline is not straight")
     if unc > 2.0:
         conf *= max(0.0, 1 - (unc - 2.0) / 4.0)
-        reasons.append(f"the angle depends on where the knuckle is placed (+-{unc:.1f} deg)")
+        # name the larger part of the uncertainty
+        if 0.5 * spread >= stat:
+            reasons.append(f"the angle depends on where the knuckle is placed (+-{unc:.1f} deg)")
+        else:
+            reasons.append(f"the arms' outlines are too short or uneven for a precise line (+-{unc:.1f} deg)")
     # cross-check: the turn of the midline itself between the two windows must agree
     # with the edges' answer; a disagreement means the windows hold something that is
     # not a straight arm (another finger, a strap, a wrong silhouette)
