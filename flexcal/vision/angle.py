@@ -242,11 +242,27 @@ def _intersect(p1, d1, p2, d2):
     return p1 + t[0] * d1
 
 
-def _measure_contour(bgr):
+def _segment(bgr):
+    """(working image, its scale to the input, Segmentation)."""
     h0, w0 = bgr.shape[:2]
     f = min(1.0, WORK_SIZE / max(h0, w0))
     work = cv2.resize(bgr, (int(round(w0 * f)), int(round(h0 * f))), interpolation=cv2.INTER_AREA) if f < 1 else bgr
-    seg = segment_finger(work)
+    return work, f, segment_finger(work)
+
+
+def _on_silhouette(mask, f, points, tol_px=4) -> bool:
+    """Whether every point (input pixels) lies on the silhouette (working pixels), within tol_px."""
+    h, w = mask.shape
+    for x, y in points:
+        xi, yi = int(round(x * f)), int(round(y * f))
+        win = mask[max(0, yi - tol_px):min(h, yi + tol_px + 1), max(0, xi - tol_px):min(w, xi + tol_px + 1)]
+        if win.size == 0 or not win.any():
+            return False
+    return True
+
+
+def _measure_contour(bgr, segmented=None):
+    work, f, seg = segmented if segmented is not None else _segment(bgr)
     if seg.mask is None:
         return failed(seg.reason, "contour")
     chains, why = _outline_chains(seg.mask)
@@ -524,11 +540,20 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
         return failed(f"image is too small ({bgr.shape[1]}x{bgr.shape[0]} px); need at least 32 px each way", method)
     if float(bgr.std()) < 1.0:
         return failed("the picture is blank (one flat colour: all black, all white or a lens cap)", method)
-    if method in ("auto", "markers"):
+    if method == "markers":
+        return _shift(_measure_markers(bgr), ox, oy)
+    segmented = None
+    if method == "auto":
         m = _measure_markers(bgr)
-        if m or method == "markers":
-            return _shift(m, ox, oy)
-    return _shift(_measure_contour(bgr), ox, oy)
+        if m:
+            # three round coloured blobs are markers only if they sit on the finger (not a
+            # poster or a pen cap in the background)
+            segmented = _segment(bgr)
+            mask = segmented[2].mask
+            dots = [m.vertex, tuple(m.proximal.point), tuple(m.distal.point)]
+            if mask is not None and _on_silhouette(mask, segmented[1], dots):
+                return _shift(m, ox, oy)
+    return _shift(_measure_contour(bgr, segmented), ox, oy)
 
 
 def _shift(m: AngleMeasurement, ox, oy) -> AngleMeasurement:

@@ -125,3 +125,23 @@ def test_overlay_and_contact_sheet(reference_photo):
     assert tuple(ov[y, x]) == (255, 0, 255)
     sheet = contact_sheet([ov, as_bgr8(img[..., 0])], ["a", "b"], ["ok", "failed"], cols=2)
     assert sheet.shape[1] > 2 * 300 and sheet.dtype == np.uint8
+
+
+def test_round_coloured_things_off_the_finger_are_not_markers():
+    img, truth = render_finger(35.0, shape=(480, 640), rng=21, difficulty="clean")
+    # three saturated discs on the background, like a poster or pen caps
+    ys, xs = np.nonzero(~truth.mask)
+    rng = np.random.default_rng(2)
+    placed = []
+    while len(placed) < 3:
+        i = rng.integers(len(xs))
+        x, y = int(xs[i]), int(ys[i])
+        if 20 < x < 620 and 20 < y < 460 and not truth.mask[max(0, y - 20):y + 20, max(0, x - 20):x + 20].any() \
+                and all(np.hypot(x - a, y - b) > 80 for a, b in placed):
+            placed.append((x, y))
+    for (x, y), colour in zip(placed, [(0, 0, 255), (255, 0, 0), (0, 200, 0)]):
+        cv2.circle(img, (x, y), 8, colour, -1, cv2.LINE_AA)
+    assert measure_angle(img, method="markers").method == "markers"     # asked for: the dots are used
+    m = measure_angle(img)                                               # auto: they are not on the finger
+    assert m.method == "contour"
+    assert abs(m.angle_deg - truth.angle_deg) < 2.0
