@@ -42,6 +42,17 @@ def _line(ax, xs, slope, intercept, **kw):
     ax.plot(xs, slope * xs + intercept, **kw)
 
 
+def _step_figure(path, data, x, y, label, lines, *, xlabel, ylabel, title):
+    """Each photo, the per-step mean ± sd across trials, and lines (slope, intercept, plot style)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    _by_step(ax, data, x, y, label)
+    for slope, intercept, style in lines:
+        _line(ax, data[x], slope, intercept, **style)
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
 def make_figures(result, out_dir) -> dict:
     """Write the PNG figures into ``out_dir``; returns {key: path}."""
     out = Path(out_dir)
@@ -50,41 +61,27 @@ def make_figures(result, out_dir) -> dict:
     used = r.used
     figs = {}
     a = used["angle_actual_deg"].to_numpy(float)
-    am = used["angle_measured_deg"].to_numpy(float)
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    _by_step(ax, used, "angle_measured_deg", "resistance_ohm", "firmware angle")
-    _line(ax, am, r.eq16.slope, r.eq16.intercept, color="C1",
-          label=f"fit: R = {r.eq16.slope:.1f} θ + {r.eq16.intercept:.0f}")
-    _line(ax, am, *reference.EQ16, color="k", ls=":", label="reference eq 16: R = 577.9 θ + 31 250")
-    ax.set(xlabel="firmware (measured) angle [deg]", ylabel="resistance [Ω]",
-           title="Fig. 6: resistance vs firmware angle (eq 16)")
-    ax.legend(fontsize=8)
-    figs["fig06"] = _save(fig, out / "fig06_resistance_vs_firmware_angle.png")
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    _by_step(ax, used, "angle_actual_deg", "resistance_ohm", "photo angle")
-    _line(ax, a, r.eq17.slope, r.eq17.intercept, color="C1",
-          label=f"ODR: R = {r.eq17.slope:.1f} θ + {r.eq17.intercept:.0f}")
-    _line(ax, a, r.eq17_ols.slope, r.eq17_ols.intercept, color="C2", ls="--",
-          label=f"OLS: R = {r.eq17_ols.slope:.1f} θ + {r.eq17_ols.intercept:.0f}")
-    _line(ax, a, *reference.EQ17, color="k", ls=":", label="reference eq 17: R = 587.1 θ + 34 400")
-    ax.set(xlabel="photo (actual) angle [deg]", ylabel="resistance [Ω]",
-           title="Fig. 7: resistance vs photo angle (eq 17)")
-    ax.legend(fontsize=8)
-    figs["fig07"] = _save(fig, out / "fig07_resistance_vs_photo_angle.png")
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    err = used["resistance_ohm"].to_numpy(float) - r.eq16(a)
-    tmp = used.assign(error_ohm=err)
-    _by_step(ax, tmp, "angle_actual_deg", "error_ohm", "error")
-    _line(ax, a, r.eq18["slope"], r.eq18["intercept"], color="C1",
-          label=f"eq 17 − eq 16: R_err = {r.eq18['slope']:.1f} θ + {r.eq18['intercept']:.0f}")
-    _line(ax, a, *reference.EQ18, color="k", ls=":", label="reference eq 18: R_err = 9.2 θ + 3 150")
-    ax.set(xlabel="photo (actual) angle [deg]", ylabel="R − eq 16(θ) [Ω]",
-           title="Fig. 8: error of the factory mapping (eq 18)")
-    ax.legend(fontsize=8)
-    figs["fig08"] = _save(fig, out / "fig08_error_vs_angle.png")
+    figs["fig06"] = _step_figure(
+        out / "fig06_resistance_vs_firmware_angle.png", used, "angle_measured_deg", "resistance_ohm", "firmware angle",
+        [(r.eq16.slope, r.eq16.intercept, dict(color="C1", label=f"fit: R = {r.eq16.slope:.1f} θ + {r.eq16.intercept:.0f}")),
+         (*reference.EQ16, dict(color="k", ls=":", label="reference eq 16: R = 577.9 θ + 31 250"))],
+        xlabel="firmware (measured) angle [deg]", ylabel="resistance [Ω]",
+        title="Fig. 6: resistance vs firmware angle (eq 16)")
+    figs["fig07"] = _step_figure(
+        out / "fig07_resistance_vs_photo_angle.png", used, "angle_actual_deg", "resistance_ohm", "photo angle",
+        [(r.eq17.slope, r.eq17.intercept, dict(color="C1", label=f"ODR: R = {r.eq17.slope:.1f} θ + {r.eq17.intercept:.0f}")),
+         (r.eq17_ols.slope, r.eq17_ols.intercept,
+          dict(color="C2", ls="--", label=f"OLS: R = {r.eq17_ols.slope:.1f} θ + {r.eq17_ols.intercept:.0f}")),
+         (*reference.EQ17, dict(color="k", ls=":", label="reference eq 17: R = 587.1 θ + 34 400"))],
+        xlabel="photo (actual) angle [deg]", ylabel="resistance [Ω]", title="Fig. 7: resistance vs photo angle (eq 17)")
+    figs["fig08"] = _step_figure(
+        out / "fig08_error_vs_angle.png", used.assign(error_ohm=used["resistance_ohm"].to_numpy(float) - r.eq16(a)),
+        "angle_actual_deg", "error_ohm", "error",
+        [(r.eq18["slope"], r.eq18["intercept"], dict(
+            color="C1", label=f"eq 17 − eq 16: R_err = {r.eq18['slope']:.1f} θ + {r.eq18['intercept']:.0f}")),
+         (*reference.EQ18, dict(color="k", ls=":", label="reference eq 18: R_err = 9.2 θ + 3 150"))],
+        xlabel="photo (actual) angle [deg]", ylabel="R − eq 16(θ) [Ω]", title="Fig. 8: error of the factory mapping (eq 18)")
 
     if r.pressure is not None:
         p = r.pressure
