@@ -120,7 +120,7 @@ def cmd_capture(args) -> int:
         frames.start()
         try:
             s = run_capture(reader, frames, recorder, args.steps, mode="manual" if args.manual else "auto",
-                            hold_s=args.hold_s)
+                            hold_s=args.hold_s, step_timeout_s=args.step_timeout_s)
         except FlexcalError:
             recorder.finish()
             raise
@@ -285,6 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--hold-s", type=float, default=1.0, help="auto: steady this long before the photo (default 1)")
     p.add_argument("--baud", type=int, default=115200)
     p.add_argument("--fps", type=float, default=None, help="frame rate of a video file or image folder")
+    p.add_argument("--step-timeout-s", type=float, default=None,
+                   help="give up (keeping what was recorded) when a step takes longer than this")
     p.set_defaults(func=cmd_capture)
 
     p = sub.add_parser("monitor", help="print the glove's live stream (with --calibration, corrected angles too)")

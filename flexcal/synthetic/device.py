@@ -35,14 +35,17 @@ class FakeGlove:
         The device's millis() relative to the host (boot offset, drift).
     garbage : bytes
         Sent once before the banner (line noise, a wrong-baud burst).
+    samples : bool
+        False: a device that sends its banner (and garbage) but never a sample.
     """
 
     def __init__(self, script=((0.0, 45_000.0),), *, rate_hz: float = 50.0, divider: Divider = Divider(),
                  noise_ohm: float = 0.0, clock: DeviceClock = DeviceClock(), seed: int = 0, garbage: bytes = b"",
-                 oversample: int = 16):
+                 oversample: int = 16, samples: bool = True):
         self.script = sorted((float(t), float(r)) for t, r in script)
         self.rate_hz, self.divider, self.noise_ohm = float(rate_hz), divider, noise_ohm
         self.clock, self.garbage, self.oversample = clock, garbage, oversample
+        self.samples = samples
         self.rng = np.random.default_rng(seed)
         self.lines_sent = 0
         self._stop = threading.Event()
@@ -110,6 +113,10 @@ class FakeGlove:
         cmd_buf, t_next = bytearray(), 0.0
         while not self._stop.is_set():
             now = time.monotonic() - self.t0
+            if not self.samples:
+                self._commands(cmd_buf)
+                time.sleep(0.01)
+                continue
             if now < t_next:
                 time.sleep(min(0.002, t_next - now))
                 continue

@@ -120,7 +120,7 @@ def test_capture_auto_records_a_trial_on_one_clock(tmp_path, camera, capsys):
     glove.start(delay_s=0.4)
     try:
         rc = main(["capture", "--port", glove.port, "--camera", str(camera), "--fps", "20", "--out", str(out),
-                   "--steps", "0,30,60", "--hold-s", "0.8"])
+                   "--steps", "0,30,60", "--hold-s", "0.8", "--step-timeout-s", "20"])
     finally:
         glove.stop()
     assert rc == 0
@@ -150,15 +150,15 @@ def test_capture_refuses_a_used_folder_and_silent_devices(tmp_path, camera):
         assert (used / "serial.csv").read_text() == "keep me\n"
     finally:
         glove.stop()
-    silent = FakeGlove(rate_hz=1e-3)      # a device that never sends a sample
-    silent.garbage = b"\xff\xfe garbage at the wrong baud \xff\n" * 3
-    silent.start()
+    # a device that never sends a sample, only noise
+    silent = FakeGlove(samples=False, garbage=b"\xff\xfe garbage at the wrong baud \xff\n" * 3)
     from flexcal.capture.session import TrialRecorder, run_capture
     try:
         rec = TrialRecorder(tmp_path / "t2", meta={})
         with SerialReader(silent.port) as r, FrameSource(str(camera)) as cam:
-            with pytest.raises(FlexcalError, match="no samples in 1 s"):
-                run_capture(r, cam, rec, [0], no_data_timeout_s=1.0)
+            silent.start()
+            with pytest.raises(FlexcalError, match=r"no samples in 1 s \(only unreadable lines"):
+                run_capture(r, cam, rec, [0], no_data_timeout_s=1.0, step_timeout_s=10)
     finally:
         silent.stop()
     rec.finish()
@@ -208,7 +208,7 @@ def test_manual_mode_takes_the_photo_when_asked(tmp_path, camera):
     with SerialReader(glove.port) as r, FrameSource(str(camera), fps=20) as cam:
         glove.start()
         try:
-            s = run_capture(r, cam, rec, [0, 45], mode="manual", keys=Keys())
+            s = run_capture(r, cam, rec, [0, 45], mode="manual", keys=Keys(), step_timeout_s=10)
         finally:
             glove.stop()
     assert s["photos"] == 2

@@ -47,7 +47,8 @@ def test_capture_then_calibrate(device, tmp_path):
     video = tmp_path / "camera.avi"
     _video(video, np.random.default_rng(8))
     trial = tmp_path / "trial_01"
-    args = ["--camera", str(video), "--out", str(trial), "--steps", "0:80:20", "--hold-s", "1.0"]
+    args = ["--camera", str(video), "--out", str(trial), "--steps", "0:80:20", "--hold-s", "1.0",
+            "--step-timeout-s", "30"]
     if device == "simavr":
         from sim_glove import ELF, SIM, build
 
