@@ -234,6 +234,27 @@ int fc_parse_float(const char *s, float *out, const char **end)
     return 0;
 }
 
+/* Constant strings live in flash on the AVR (its 2 KB of RAM would otherwise hold every
+ * message); FC_S marks them and put_c copies them out. */
+#ifdef __AVR__
+#include <avr/pgmspace.h>
+#define FC_S(s) PSTR(s)
+static size_t put_c(char *buf, size_t n, size_t at, const char *s)
+{
+    char c;
+    while ((c = (char)pgm_read_byte(s)) != '\0' && at + 1 < n) {
+        buf[at++] = c;
+        s++;
+    }
+    if (n)
+        buf[at < n ? at : n - 1] = '\0';
+    return at;
+}
+#else
+#define FC_S(s) (s)
+#define put_c put
+#endif
+
 static size_t put(char *buf, size_t n, size_t at, const char *s)
 {
     while (*s && at + 1 < n)
@@ -267,14 +288,14 @@ static size_t describe_mapping(const fc_settings *s, char *reply, size_t n, size
 {
     switch (s->mapping.kind) {
     case FC_MAP_TABLE:
-        return put(reply, n, at, "mapping=calibrated");
+        return put_c(reply, n, at, FC_S("mapping=calibrated"));
     case FC_MAP_LINEAR:
-        at = put(reply, n, at, "mapping=linear slope_ohm_per_deg=");
+        at = put_c(reply, n, at, FC_S("mapping=linear slope_ohm_per_deg="));
         at = put_float(reply, n, at, s->mapping.slope_ohm_per_deg, 3);
-        at = put(reply, n, at, " offset_ohm=");
+        at = put_c(reply, n, at, FC_S(" offset_ohm="));
         return put_float(reply, n, at, s->mapping.offset_ohm, 1);
     default:
-        return put(reply, n, at, "mapping=factory");
+        return put_c(reply, n, at, FC_S("mapping=factory"));
     }
 }
 
@@ -287,18 +308,18 @@ int fc_execute(fc_settings *s, const char *line, char *reply, size_t n)
         p++;
     if (word_is(&p, "rate")) {
         if (fc_parse_float(p, &a, &p) || *p || a < FC_MIN_RATE_HZ || a > FC_MAX_RATE_HZ || a != (float)(uint16_t)a) {
-            put(reply, n, 0, "# error: rate takes a whole number of hertz from 1 to 200, e.g. 'rate 50'");
+            put_c(reply, n, 0, FC_S("# error: rate takes a whole number of hertz from 1 to 200, e.g. 'rate 50'"));
             return -1;
         }
         s->rate_hz = (uint16_t)a;
-        at = put(reply, n, 0, "# ok rate_hz=");
+        at = put_c(reply, n, 0, FC_S("# ok rate_hz="));
         put_float(reply, n, at, a, 0);
         return 0;
     }
     if (word_is(&p, "info") && !*p) {
-        at = put(reply, n, 0, "# info rate_hz=");
+        at = put_c(reply, n, 0, FC_S("# info rate_hz="));
         at = put_float(reply, n, at, (float)s->rate_hz, 0);
-        at = put(reply, n, at, " ");
+        at = put_c(reply, n, at, FC_S(" "));
         describe_mapping(s, reply, n, at);
         return 0;
     }
@@ -307,28 +328,28 @@ int fc_execute(fc_settings *s, const char *line, char *reply, size_t n)
             fc_mapping_factory(&s->mapping);
         } else if (word_is(&p, "calibrated") && !*p) {
             if (!s->has_calibration) {
-                put(reply, n, 0, "# error: no calibration compiled in; add flexcal_calibration.h and rebuild");
+                put_c(reply, n, 0, FC_S("# error: no calibration compiled in; add flexcal_calibration.h and rebuild"));
                 return -1;
             }
             s->mapping = s->calibration;
         } else if (word_is(&p, "linear")) {
             if (fc_parse_float(p, &a, &p) || fc_parse_float(p, &b, &p) || *p || !(a > 0.0f || a < 0.0f)) {
-                put(reply, n, 0, "# error: write 'map linear <slope_ohm_per_deg> <offset_ohm>', slope not 0");
+                put_c(reply, n, 0, FC_S("# error: write 'map linear <slope_ohm_per_deg> <offset_ohm>', slope not 0"));
                 return -1;
             }
             fc_mapping_linear(&s->mapping, a, b);
         } else {
-            put(reply, n, 0, "# error: map takes factory, calibrated or linear <slope> <offset>");
+            put_c(reply, n, 0, FC_S("# error: map takes factory, calibrated or linear <slope> <offset>"));
             return -1;
         }
-        at = put(reply, n, 0, "# ok ");
+        at = put_c(reply, n, 0, FC_S("# ok "));
         describe_mapping(s, reply, n, at);
         return 0;
     }
     if (word_is(&p, "help") && !*p) {
-        put(reply, n, 0, "# commands: rate <hz> | info | map factory|calibrated|linear <slope> <offset>");
+        put_c(reply, n, 0, FC_S("# commands: rate <hz> | info | map factory|calibrated|linear <slope> <offset>"));
         return 0;
     }
-    put(reply, n, 0, "# error: unknown command; send 'help'");
+    put_c(reply, n, 0, FC_S("# error: unknown command; send 'help'"));
     return -1;
 }

@@ -32,22 +32,29 @@ static char reply[96];
 static void print_line(const char *s)
 {
   Serial.print(s);
-  Serial.print("\r\n");
+  Serial.print(F("\r\n"));
+}
+
+// the same for text kept in flash (F("...")): the Uno has 2 KB of RAM
+static void print_line(const __FlashStringHelper *s)
+{
+  Serial.print(s);
+  Serial.print(F("\r\n"));
 }
 
 static void banner(void)
 {
-  print_line("# flexcal-firmware " FC_VERSION " (ATmega328P)");
-  Serial.print("# divider: r_fixed_ohm=");
+  print_line(F("# flexcal-firmware " FC_VERSION " (ATmega328P)"));
+  Serial.print(F("# divider: r_fixed_ohm="));
   fc_format_float(line, sizeof line, R_FIXED_OHM, 0);
   Serial.print(line);
-  Serial.print(" vref_v=");
+  Serial.print(F(" vref_v="));
   fc_format_float(line, sizeof line, VREF_V, 2);
   Serial.print(line);
-  print_line(" adc_bits=10 flex=low-side");
+  print_line(F(" adc_bits=10 flex=low-side"));
   fc_execute(&settings, "info", reply, sizeof reply);
   print_line(reply);
-  print_line("t_ms,adc,resistance_ohm,angle_deg");
+  print_line(F("t_ms,adc,resistance_ohm,angle_deg"));
 }
 
 void setup()
@@ -78,7 +85,7 @@ static void handle_commands(void)
       fc_execute(&settings, reader.buf, reply, sizeof reply);
       print_line(reply);
     } else if (r == FC_FEED_OVERLONG) {
-      print_line("# error: command too long (at most 48 characters); send 'help'");
+      print_line(F("# error: command too long (at most 48 characters); send 'help'"));
     }
   }
 }
@@ -92,11 +99,11 @@ static void sample(void)
   fc_sensor_state st = fc_sensor_state_of(sum, OVERSAMPLE);
   if (st != last_state) {
     if (st == FC_SENSOR_OPEN)
-      print_line("# warning: sensor open (ADC at the top rail): check the sensor and its wires");
+      print_line(F("# warning: sensor open (ADC at the top rail): check the sensor and its wires"));
     else if (st == FC_SENSOR_SHORT)
-      print_line("# warning: sensor shorted (ADC at 0): check for a short across the sensor");
+      print_line(F("# warning: sensor shorted (ADC at 0): check for a short across the sensor"));
     else
-      print_line("# sensor ok again");
+      print_line(F("# sensor ok again"));
     last_state = st;
   }
   float r = fc_resistance_ohm(sum, OVERSAMPLE, R_FIXED_OHM);
