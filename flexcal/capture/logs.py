@@ -316,8 +316,8 @@ def read_log(path, *, divider: Divider | None = None, resistance_unit: str | Non
         info.angle_source = "factory mapping (R - 31250) / 577.9 applied by flexcal; the log has no angle"
     _resolve_time(df, info)
     info.n_samples = len(df)
-    front = [c for c in SAMPLE_COLUMNS]
-    df = df[front + ["line"] + [c for c in df.columns if c not in front and c != "line"]].reset_index(drop=True)
+    df = df[SAMPLE_COLUMNS + ["line"] + [c for c in df.columns if c not in SAMPLE_COLUMNS and c != "line"]]
+    df = df.reset_index(drop=True)
     df.attrs["log"] = info
     return df
 

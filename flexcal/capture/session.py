@@ -25,14 +25,13 @@ import pandas as pd
 
 from flexcal import __version__
 from flexcal.capture.clock import ClockFit
-from flexcal.capture.logs import parse_text_line
+from flexcal.capture.logs import SAMPLE_COLUMNS, parse_text_line
 from flexcal.capture.plateaus import SteadyTracker
 from flexcal.capture.protocol import Comment, Header, Sample, parse_line
 from flexcal.capture.serial_reader import Event, Line
 from flexcal.divider import factory_angle_deg
 from flexcal.errors import FlexcalError
 
-SERIAL_COLUMNS = ["t_s", "t_host_s", "t_device_ms", "adc", "resistance_ohm", "angle_deg"]
 FRAME_COLUMNS = ["image", "t_s", "step", "target_deg", "frame_index", "resistance_ohm"]
 
 
@@ -75,7 +74,7 @@ class TrialRecorder:
         self.last: dict = {}
         self.photos = 0
         self._serial = open(self.out / "serial.csv", "w", newline="")
-        self._serial.write(",".join(SERIAL_COLUMNS) + "\n")
+        self._serial.write(",".join(SAMPLE_COLUMNS) + "\n")
         self._serial.flush()
         self._frames = open(self.out / "frames.csv", "w", newline="")
         self._frames.write(",".join(FRAME_COLUMNS) + "\n")

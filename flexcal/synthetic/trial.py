@@ -25,7 +25,6 @@ from flexcal.divider import Divider
 from flexcal.synthetic.render import render_finger
 from flexcal.synthetic.sensor import DeviceClock, SensorModel, banner_lines, simulate_readings
 
-SERIAL_COLUMNS = ["t_s", "t_host_s", "t_device_ms", "adc", "resistance_ohm", "angle_deg"]
 _EPOCH = datetime(2026, 1, 5, 9, 0, 0, tzinfo=timezone.utc)
 
 

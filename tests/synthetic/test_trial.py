@@ -8,7 +8,8 @@ import pytest
 from flexcal.calibration import reference
 from flexcal.calibration.models import pressure_from_mass
 from flexcal.cli import main
-from flexcal.synthetic.trial import SERIAL_COLUMNS, TrialPlan, simulate_pressure, write_experiment
+from flexcal.capture.logs import SAMPLE_COLUMNS
+from flexcal.synthetic.trial import TrialPlan, simulate_pressure, write_experiment
 
 SMALL = (240, 320)
 
@@ -29,7 +30,7 @@ def test_experiment_folders_follow_the_design_contract(experiment):
         assert list(frames.columns[:2]) == ["image", "t_s"] and {"step", "target_deg"} <= set(frames.columns)
         assert sorted(frames["image"]) == sorted(p.name for p in (d / "images").iterdir())
         serial = pd.read_csv(d / "serial.csv")
-        assert list(serial.columns) == SERIAL_COLUMNS
+        assert list(serial.columns) == SAMPLE_COLUMNS
         assert serial["t_s"].is_monotonic_increasing and serial["t_device_ms"].is_monotonic_increasing
         assert (serial["t_host_s"] > serial["t_s"]).all()  # arrival after sampling
         # one clock: every photo falls inside the serial recording
