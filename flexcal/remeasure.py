@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from flexcal.capture.images import IMAGE_SUFFIXES
+from flexcal.capture.images import IMAGE_SUFFIXES, find_images, photo_folder
 from flexcal.errors import FlexcalError
 
 COMPARISON_COLUMNS = ["image", "angle_deg", "angle_unc_deg", "status", "reason", "reference_deg",
@@ -27,9 +27,7 @@ def trial_images(dirs) -> list[Path]:
         d = Path(d)
         if not d.is_dir():
             raise FlexcalError(f"{d}: not a folder; give trial folders (holding images/ or photos)")
-        img_dir = d / "images" if (d / "images").is_dir() else d
-        found = sorted(f for f in img_dir.iterdir() if f.is_file() and f.suffix.lower() in IMAGE_SUFFIXES
-                       and not f.name.startswith("."))
+        found = find_images([photo_folder(d)])
         if not found:
             raise FlexcalError(f"{d}: no photos in it (.jpg, .png, .tif ...)")
         out += found

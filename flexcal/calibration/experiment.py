@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from flexcal.calibration.pairing import PAIR_COLUMNS, PAIR_EXTRA, pair_trial, read_frames
-from flexcal.capture.images import IMAGE_SUFFIXES
+from flexcal.capture.images import find_images, photo_folder
 from flexcal.capture.logs import read_log
 from flexcal.errors import FlexcalError
 
@@ -32,11 +32,6 @@ class Trial:
     frames: Path | None = None
 
 
-def _images_in(folder: Path) -> list[Path]:
-    return sorted(f for f in folder.iterdir() if f.is_file() and f.suffix.lower() in IMAGE_SUFFIXES
-                  and not f.name.startswith("."))
-
-
 def _find_log(folder: Path) -> Path | None:
     if (folder / "serial.csv").is_file():
         return folder / "serial.csv"
@@ -47,8 +42,8 @@ def _find_log(folder: Path) -> Path | None:
 
 def _trial_at(folder: Path) -> Trial | None:
     """A folder is a trial when it holds photos (in images/ or itself) and one serial log."""
-    img_dir = folder / "images" if (folder / "images").is_dir() else folder
-    images = _images_in(img_dir)
+    img_dir = photo_folder(folder)
+    images = find_images([img_dir])
     log = _find_log(folder)
     if not images or log is None:
         return None
@@ -101,7 +96,7 @@ def trials_from_args(images, logs) -> list[Trial]:
                            "folder of photos, in the same order (or use --trials DIR)")
     trials = []
     for d, log in zip(img_dirs, log_files):
-        images = _images_in(d)
+        images = find_images([d])
         if not images:
             raise FlexcalError(f"--images {d}: no photos in it (.jpg, .png, .tif ...)")
         frames = next((f for f in (d / "frames.csv", d.parent / "frames.csv") if f.is_file()), None)

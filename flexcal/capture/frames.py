@@ -15,6 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from flexcal.capture.images import find_images
 from flexcal.errors import FlexcalError
 
 
@@ -41,8 +42,7 @@ class FrameSource:
         else:
             p = Path(str(source))
             if p.is_dir():
-                self._files = sorted(f for f in p.iterdir() if f.suffix.lower() in (".png", ".jpg", ".jpeg", ".tif",
-                                                                                   ".tiff", ".bmp"))
+                self._files = find_images([p])
                 if not self._files:
                     raise FlexcalError(f"--camera {source}: no images in that folder")
                 self._cap = None

@@ -42,6 +42,12 @@ def find_images(paths, *, all_files: bool = False) -> list[Path]:
     return sorted(out, key=lambda f: (str(f.parent), f.name))
 
 
+def photo_folder(folder) -> Path:
+    """Where a trial folder keeps its photos: ``images/`` when it has one, else the folder itself."""
+    folder = Path(folder)
+    return folder / "images" if (folder / "images").is_dir() else folder
+
+
 def read_image(path, *, reduce: int = 1):
     """Read a photo as BGR uint8 (16-bit kept as uint16). Returns (image, '') or (None, reason).
 
