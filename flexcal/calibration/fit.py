@@ -149,7 +149,12 @@ def _fit_reference_model(angle, resistance, eq16: LinearFit, deg_per_psi) -> dic
             "mean_abs_e_model_ohm": float(np.mean(np.abs(e_model))), "share_of_error_removed": float(removed)}
 
 
-def _eq17(angle, resistance, angle_unc, res_std, n):
+def _eq17(used: pd.DataFrame) -> LinearFit:
+    """Resistance against photo angle, errors in both: the photos' angle uncertainty, the
+    readings' spread over the square root of their count (ODR, with the scatter fitted)."""
+    angle, resistance = used["angle_actual_deg"].to_numpy(float), used["resistance_ohm"].to_numpy(float)
+    angle_unc = used["angle_actual_unc_deg"].to_numpy(float)
+    res_std, n = used["resistance_std_ohm"].to_numpy(float), used["n_samples"].to_numpy(float)
     sx = np.where(np.isfinite(angle_unc) & (angle_unc > 0), angle_unc, DEFAULT_ANGLE_UNC_DEG)
     sy = np.where(np.isfinite(res_std) & (n > 1), res_std / np.sqrt(np.maximum(n, 1)), 1.0)
     return york(angle, resistance, np.maximum(sx, 0.05), np.maximum(sy, 1.0), scatter=True)
@@ -163,13 +168,9 @@ def valid_range(angle_deg) -> tuple[float, float]:
     return (lo - m, hi + m)
 
 
-def _mappings(used: pd.DataFrame, deg_per_psi: float):
-    a = used["angle_actual_deg"].to_numpy(float)
-    r = used["resistance_ohm"].to_numpy(float)
-    rng = valid_range(a)
-    e17 = _eq17(a, r, used["angle_actual_unc_deg"].to_numpy(float), used["resistance_std_ohm"].to_numpy(float),
-                used["n_samples"].to_numpy(float))
-    phys = _fit_physical(a, r, deg_per_psi)
+def _mappings(e17: LinearFit, phys: dict, angle_deg, deg_per_psi: float):
+    """The two corrections from the fits of eq 17 and of the physical model, valid around ``angle_deg``."""
+    rng = valid_range(angle_deg)
     return {"empirical": LinearMapping(e17.slope, e17.intercept, rng),
             "physical": PhysicalMapping(phys["slope_ohm_per_deg"], phys["offset_ohm"], rng,
                                         pressure_k_ohm_per_psi=phys["pressure_k_ohm_per_psi"],
@@ -195,7 +196,9 @@ def validate(used: pd.DataFrame, deg_per_psi: float, notes: list):
         if len(train) < 4 or train["angle_actual_deg"].nunique() < 3:
             notes.append(f"trial {test['trial'].iloc[0]}: too few pairs left to fit without it; not validated")
             continue
-        maps = _mappings(train, deg_per_psi)
+        maps = _mappings(_eq17(train), _fit_physical(train["angle_actual_deg"].to_numpy(float),
+                                                     train["resistance_ohm"].to_numpy(float), deg_per_psi),
+                         train["angle_actual_deg"], deg_per_psi)
         for name, m in maps.items():
             pred = m.angle_deg(test["resistance_ohm"].to_numpy(float), extrapolate=True)
             for (_, p), e in zip(test.iterrows(), pred - test["angle_actual_deg"].to_numpy(float)):
@@ -248,8 +251,7 @@ def fit_calibration(pairs: pd.DataFrame, *, pressure: PressureResult | None = No
     r = used["resistance_ohm"].to_numpy(float)
     am = used["angle_measured_deg"].to_numpy(float)
     eq16 = ols(am, r)
-    eq17 = _eq17(a, r, used["angle_actual_unc_deg"].to_numpy(float), used["resistance_std_ohm"].to_numpy(float),
-                 used["n_samples"].to_numpy(float))
+    eq17 = _eq17(used)
     eq17_ols = ols(a, r)
     eq18 = {"form": "R_err = slope * angle_deg + intercept (eq 17 - eq 16)",
             "slope": eq17.slope - eq16.slope, "intercept": eq17.intercept - eq16.intercept,
@@ -260,9 +262,9 @@ def fit_calibration(pairs: pd.DataFrame, *, pressure: PressureResult | None = No
     if pressure is None:
         notes.append(f"no pressure experiment: p(angle) = angle / {deg_per_psi} psi/deg from the reference")
     validation, errors = validate(used, deg_per_psi, notes)
+    physical = _fit_physical(a, r, deg_per_psi)
     return CalibrationResult(
         pairs=p, eq16=eq16, eq17=eq17, eq17_ols=eq17_ols, eq18=eq18, eq18_direct=eq18_direct,
         steps=_step_stats(used), reference_model=_fit_reference_model(a, r, eq16, deg_per_psi),
-        physical_fit=_fit_physical(a, r, deg_per_psi),
-        mappings={"factory": FACTORY, **_mappings(used, deg_per_psi)},
+        physical_fit=physical, mappings={"factory": FACTORY, **_mappings(eq17, physical, a, deg_per_psi)},
         validation=validation, validation_errors=errors, pressure=pressure, notes=notes)
