@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from flexcal.calibration.pairing import PAIR_COLUMNS, PAIR_EXTRA, pair_trial, read_frames
+from flexcal.calibration.pairing import PAIR_COLUMNS, PAIR_EXTRA, pair_trial, read_frames, text_values
 from flexcal.capture.images import find_images, photo_folder
 from flexcal.capture.logs import read_log
 from flexcal.errors import FlexcalError
@@ -207,5 +207,5 @@ def _unpaired(t: Trial, angles: pd.DataFrame, why: str) -> pd.DataFrame:
         "angle_actual_deg": angles["angle_deg"].to_numpy(float),
         "angle_actual_unc_deg": angles["angle_unc_deg"].to_numpy(float), "resistance_ohm": np.nan,
         "resistance_std_ohm": np.nan, "n_samples": 0, "angle_measured_deg": np.nan, "steady": False,
-        "time_source": "", "status": [s if isinstance(s, str) else "ok" for s in angles["status"]],
-        "reason": [s if isinstance(s, str) else "" for s in angles["reason"]], "pairing_error": why})
+        "time_source": "", "status": text_values(angles["status"], "ok"), "reason": text_values(angles["reason"]),
+        "pairing_error": why})

@@ -17,6 +17,7 @@ from scipy import stats
 from flexcal.calibration import reference
 from flexcal.calibration.mapping import FACTORY, LinearMapping, PhysicalMapping
 from flexcal.calibration.models import pressure_from_mass, pressure_shape
+from flexcal.calibration.pairing import text_values
 from flexcal.calibration.regression import LinearFit, ols, york
 from flexcal.errors import FlexcalError
 
@@ -72,9 +73,9 @@ def select_pairs(pairs: pd.DataFrame) -> pd.DataFrame:
         m = mask & (reason == "")
         reason = reason.where(~m, text if isinstance(text, str) else text[m])
 
-    why = pd.Series([s if isinstance(s, str) else "" for s in p["reason"]], index=p.index, dtype=object)
+    why = pd.Series(text_values(p["reason"]), index=p.index, dtype=object)
     if "pairing_error" in p:
-        err = pd.Series([s if isinstance(s, str) else "" for s in p["pairing_error"]], index=p.index, dtype=object)
+        err = pd.Series(text_values(p["pairing_error"]), index=p.index, dtype=object)
         mark(err != "", "trial not paired: " + err)
     angle_nan = ~np.isfinite(p["angle_actual_deg"].astype(float))
     mark(angle_nan, "no photo angle: " + why.replace("", "not measured"))

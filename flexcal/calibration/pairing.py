@@ -26,6 +26,12 @@ PAIR_EXTRA = ["time_source", "status", "reason"]
 MIN_STEADY_SAMPLES = 5
 
 
+def text_values(values, default: str = "") -> list:
+    """The strings of a text column that may hold NaN (pandas reads empty cells as NaN):
+    missing or empty -> ``default``."""
+    return [v if isinstance(v, str) and v else default for v in values]
+
+
 def read_frames(path) -> pd.DataFrame:
     """frames.csv: ``image, t_s`` (+ optional columns). One-line errors name the file."""
     path = Path(path)
@@ -158,8 +164,8 @@ def pair_trial(trial: str, images: list[Path], angles: pd.DataFrame, samples: pd
             angles = angles.assign(**{col: np.nan if col.startswith("angle") else ("ok" if col == "status" else "")})
     pairs["angle_actual_deg"] = angles["angle_deg"].to_numpy(float)
     pairs["angle_actual_unc_deg"] = angles["angle_unc_deg"].to_numpy(float)
-    pairs["status"] = [s if isinstance(s, str) and s else "ok" for s in angles["status"]]
-    pairs["reason"] = [s if isinstance(s, str) else "" for s in angles["reason"]]
+    pairs["status"] = text_values(angles["status"], "ok")
+    pairs["reason"] = text_values(angles["reason"])
     no_samples = pairs["n_samples"] == 0
     if no_samples.any():
         lo, hi = np.nanmin(t) if np.isfinite(t).any() else np.nan, np.nanmax(t) if np.isfinite(t).any() else np.nan
