@@ -133,27 +133,23 @@ size_t fc_format_float(char *buf, size_t n, float x, uint8_t decimals)
     return len;
 }
 
+/* ",x" after the first len characters; 0 (and so on down the line) when it does not fit */
+static size_t append_field(char *buf, size_t n, size_t len, float x, uint8_t decimals)
+{
+    size_t k;
+    if (!len || len + 2 > n)
+        return 0;
+    buf[len++] = ',';
+    k = fc_format_float(buf + len, n - len, x, decimals);
+    return k ? len + k : 0;
+}
+
 size_t fc_format_sample(char *buf, size_t n, uint64_t t_ms, float adc, float r_ohm, float angle_deg)
 {
-    size_t len = 0, k;
-    k = fc_format_u64(buf, n, t_ms);
-    if (!k) return 0;
-    len += k;
-    if (len + 2 > n) return 0;
-    buf[len++] = ',';
-    k = fc_format_float(buf + len, n - len, adc, 2);
-    if (!k) return 0;
-    len += k;
-    if (len + 2 > n) return 0;
-    buf[len++] = ',';
-    k = fc_format_float(buf + len, n - len, r_ohm, 1);
-    if (!k) return 0;
-    len += k;
-    if (len + 2 > n) return 0;
-    buf[len++] = ',';
-    k = fc_format_float(buf + len, n - len, angle_deg, 2);
-    if (!k) return 0;
-    return len + k;
+    size_t len = fc_format_u64(buf, n, t_ms);
+    len = append_field(buf, n, len, adc, 2);
+    len = append_field(buf, n, len, r_ohm, 1);
+    return append_field(buf, n, len, angle_deg, 2);
 }
 
 void fc_clock_init(fc_clock *c)

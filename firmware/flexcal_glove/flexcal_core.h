@@ -83,8 +83,6 @@ typedef struct {
     fc_mapping mapping;
     uint8_t has_calibration;          /* a flexcal_calibration.h table was compiled in */
     fc_mapping calibration;
-    float r_fixed_ohm;
-    float vref_v;
 } fc_settings;
 
 /* Execute one command line; writes a one-line reply (starting with "# ") into reply.

@@ -61,8 +61,6 @@ void setup()
 {
   Serial.begin(BAUD);
   settings.rate_hz = FC_DEFAULT_RATE_HZ;
-  settings.r_fixed_ohm = R_FIXED_OHM;
-  settings.vref_v = VREF_V;
   fc_mapping_factory(&settings.mapping);
 #ifdef HAVE_CALIBRATION
   if (fc_mapping_table(&settings.calibration, flexcal_cal_table_r_ohm, flexcal_cal_table_angle_deg,
