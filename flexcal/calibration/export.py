@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from flexcal import __version__
+from flexcal.calibration import reference
 from flexcal.calibration.mapping import mapping_from_dict
 from flexcal.errors import FlexcalError
 
@@ -67,8 +68,6 @@ def calibration_dict(result, *, inputs: dict, parameters: dict) -> dict:
         if ref is not None:
             d["reference"] = {"slope": ref[0], "intercept": ref[1]}
         return d
-
-    from flexcal.calibration import reference
 
     models = {
         "eq16_resistance_vs_firmware_angle": fit(r.eq16, "angle_measured_deg", "resistance_ohm", reference.EQ16),

@@ -56,19 +56,20 @@ def photo_times(images: list[Path], samples: pd.DataFrame, *, frames: pd.DataFra
                 min_hold_s: float = 1.0):
     """Time of each photo on the log's clock, and how it was found.
 
-    Returns ``(t_s array, source str, plateaus DataFrame, notes list)``. With
+    Returns ``(t_s array, source str, plateaus DataFrame or None, notes list)``. With
     ``source == "plateau order"`` the times are the plateaus' middles, and the i-th
-    photo (sorted) belongs to the i-th plateau.
+    photo (sorted) belongs to the i-th plateau. With frames.csv no plateaus are needed
+    (None).
     """
     notes: list[str] = []
-    plateaus = find_plateaus(samples["t_s"], samples["resistance_ohm"], min_hold_s=min_hold_s)
     if frames is not None:
         by_name = dict(zip(frames["image"], frames["t_s"]))
         t = np.array([by_name.get(p.name, np.nan) for p in images], float)
         missing = [p.name for p, v in zip(images, t) if not np.isfinite(v)]
         if missing:
             notes.append(f"{len(missing)} photo(s) not in frames.csv (no time): {', '.join(missing[:3])}")
-        return t, "frames.csv", plateaus, notes
+        return t, "frames.csv", None, notes
+    plateaus = find_plateaus(samples["t_s"], samples["resistance_ohm"], min_hold_s=min_hold_s)
     exif = [exif_time_s(p) for p in images]
     timed = samples["t_s"].notna().all()
     if timed and images and all(e is not None for e in exif) and len(plateaus):

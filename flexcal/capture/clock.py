@@ -75,8 +75,6 @@ class ClockFit:
             if keep.sum() >= 3 and np.ptp(d[keep]) > 0:
                 rate = np.polyfit(d[keep], h[keep], 1)[0]
             self.rate = float(rate)
-        elif d.size >= 1 and len(self.recent_dev) >= 20 and np.ptp(self.recent_dev) > 0:
-            self.rate = 1.0
         self.offset = float(np.quantile(h - self.rate * d, self.quantile))
         self._since = 0
 
