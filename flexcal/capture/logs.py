@@ -408,15 +408,6 @@ def _resolve_time(df: pd.DataFrame, info: LogInfo) -> None:
                           f"({t[i]:g} s after {t[i - 1]:g} s): did the device reset?")
 
 
-def time_backwards(df: pd.DataFrame) -> str | None:
-    """The note about time going backwards in a log read by ``read_log``, or None."""
-    info = df.attrs.get("log")
-    for note in getattr(info, "notes", []):
-        if note.startswith("time goes backwards"):
-            return note
-    return None
-
-
 def parse_text_line(text: str) -> dict | None:
     """Values in one live line that is not the firmware protocol: ``Resistance: 45000 ohms``,
     ``ADC: 512``, or a bare number (a resistance; kΩ when below 1000). Keys are the samples
