@@ -225,7 +225,7 @@ FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towa
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
-MAX_TAPER_DEG = 6.0      # a finger's two edges are never further from parallel than this
+MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 

@@ -68,20 +68,22 @@ def _pick(fg, border):
     """
     h, w = fg.shape
     n, comp, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
+    # border pixels per part, counted once for all parts
+    touching = np.bincount(comp[border], minlength=n)
     best, best_score, candidates = None, 0.0, 0
     for i in range(1, n):
         area = stats[i, cv2.CC_STAT_AREA]
-        if area < 0.004 * h * w:
+        if area < 0.004 * h * w or touching[i] == 0:
             continue
-        part = comp == i
-        touches = (part & border).sum()
-        if touches == 0:
-            continue
-        r = _arm_radius(part)
+        x, y, bw, bh = (stats[i, c] for c in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+        # its bounding box with a pixel of margin, so that the distance transform sees
+        # the same background around it as in the whole picture
+        ya, xa = max(0, y - 1), max(0, x - 1)
+        r = _arm_radius(comp[ya:y + bh + 1, xa:x + bw + 1] == i)
         if r < 2:
             continue
         elong = area / (4 * r * r)   # length in widths, for a tube
-        if elong < 2.5 or touches > 0.35 * (h + w):
+        if elong < 2.5 or touching[i] > 0.35 * (h + w):
             continue
         candidates += 1
         score = area * min(elong, 12) / 12
@@ -120,7 +122,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
 
     # classify every working-resolution pixel by its nearest centre
     fe = _features(cv2.GaussianBlur(bgr, (3, 3), 0))
-    d2 = ((fe[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
+    d2 = (centres ** 2).sum(axis=1)[None, :] - 2.0 * (fe @ centres.T)   # |f - c|^2 - |f|^2
     labels = d2.argmin(axis=1).reshape(h, w)
     fg = (~background[labels]).astype(np.uint8)
 
@@ -163,10 +165,9 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     inv = (1 - mask).astype(np.uint8)
     # holes are background regions that do not reach the border
     n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
-    for j in range(1, n2):
-        hole = comp2 == j
-        if not (hole & border_full).any() and stats2[j, cv2.CC_STAT_AREA] < 0.2 * mask.sum():
-            filled[hole] = 1
+    is_hole = (np.bincount(comp2[border_full], minlength=n2) == 0) & (stats2[:, cv2.CC_STAT_AREA] < 0.2 * mask.sum())
+    is_hole[0] = False
+    filled[is_hole[comp2]] = 1
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
     bg_centre = centres[np.argmax(share)]
