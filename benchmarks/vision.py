@@ -1,17 +1,20 @@
 """Accuracy and speed of flexcal.vision on seeded rendered suites.
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard]
+                                [--details results.csv]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
 over 5 deg), the share whose true angle lies within 2 sigma, and images per second per
 process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
-back, as a user's photos would be.
+back, as a user's photos would be. ``--details`` writes one row per render (truth, answer,
+uncertainty, status, reason and the render's nuisances) to find what fails.
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import tempfile
 import time
 from pathlib import Path
@@ -27,16 +30,19 @@ from flexcal.vision import measure_angle
 
 def run_suite(difficulty, n, shape, seed, tmp):
     rng = np.random.default_rng(seed)
-    files, truth = [], []
+    files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
-        img, _ = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None)
+        img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None)
         f = Path(tmp) / f"{difficulty}_{i:04d}.jpg"
         cv2.imwrite(str(f), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
         files.append(f)
         truth.append(a)
+        # the truth's angle and vertex under their own names, beside the measured ones
+        params.append({(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v
+                       for k, v in t.as_dict().items()})
     t0 = time.perf_counter()
-    got, unc, status = [], [], []
+    got, unc, status, rows = [], [], [], []
     for f in files:
         red = _reduction(f)
         img, _ = read_image(f, reduce=red)
@@ -44,7 +50,10 @@ def run_suite(difficulty, n, shape, seed, tmp):
         got.append(m.angle_deg)
         unc.append(m.angle_unc_deg)
         status.append(m.status)
+        rows.append(m.row())
     dt = time.perf_counter() - t0
+    details = [{"suite": difficulty, "index": i, **rows[i], "error_deg": rows[i]["angle_deg"] - truth[i],
+                **params[i]} for i in range(n)]
     got, unc, truth = np.array(got), np.array(unc), np.array(truth)
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
@@ -54,7 +63,7 @@ def run_suite(difficulty, n, shape, seed, tmp):
         "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
         "answered": answered.mean(), "gross>5": int((err > 5).sum()),
         "within2sigma": float(np.mean(err <= 2 * unc[answered])) if err.size else np.nan,
-        "img/s": n / dt,
+        "img/s": n / dt, "details": details,
     }
 
 
@@ -64,7 +73,9 @@ def main(argv=None):
     ap.add_argument("--size", default="1280x960")
     ap.add_argument("--suites", default="clean,realistic,hard")
     ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--details", type=Path, help="write one row per render to this CSV")
     args = ap.parse_args(argv)
+    details = []
     w, h = (int(v) for v in args.size.split("x"))
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}")
     print(f"{'suite':<10} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
@@ -74,6 +85,13 @@ def main(argv=None):
             r = run_suite(suite, args.n, (h, w), args.seed + k, tmp)
             print(f"{r['suite']:<10} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
+            details += r["details"]
+    if args.details:
+        with open(args.details, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(details[0]))
+            w.writeheader()
+            w.writerows(details)
+        print(f"per-render rows: {args.details}")
 
 
 if __name__ == "__main__":
