@@ -42,19 +42,17 @@ def run_suite(difficulty, n, shape, seed, tmp):
         params.append({(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v
                        for k, v in t.as_dict().items()})
     t0 = time.perf_counter()
-    got, unc, status, rows = [], [], [], []
+    rows = []
     for f in files:
         red = _reduction(f)
         img, _ = read_image(f, reduce=red)
-        m = _scale(measure_angle(img), red)
-        got.append(m.angle_deg)
-        unc.append(m.angle_unc_deg)
-        status.append(m.status)
-        rows.append(m.row())
+        rows.append(_scale(measure_angle(img), red).row())
     dt = time.perf_counter() - t0
     details = [{"suite": difficulty, "index": i, **rows[i], "error_deg": rows[i]["angle_deg"] - truth[i],
                 **params[i]} for i in range(n)]
-    got, unc, truth = np.array(got), np.array(unc), np.array(truth)
+    got = np.array([r["angle_deg"] for r in rows])
+    unc = np.array([r["angle_unc_deg"] for r in rows])
+    truth = np.array(truth)
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
@@ -88,9 +86,9 @@ def main(argv=None):
             details += r["details"]
     if args.details:
         with open(args.details, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(details[0]))
-            w.writeheader()
-            w.writerows(details)
+            writer = csv.DictWriter(fh, fieldnames=list(details[0]))
+            writer.writeheader()
+            writer.writerows(details)
         print(f"per-render rows: {args.details}")
 
 

@@ -226,6 +226,7 @@ HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle toward
 KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
+TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 
@@ -383,8 +384,8 @@ def _measure_contour(bgr, segmented=None):
         conf *= seg.contrast / 12
         reasons.append("weak contrast between finger and background")
     worst_taper = max(fin["taper"], hand["taper"])
-    if worst_taper > 6:
-        conf *= max(0.0, 1 - (worst_taper - 6) / 10)
+    if worst_taper > TAPER_DOUBT_DEG:
+        conf *= max(0.0, 1 - (worst_taper - TAPER_DOUBT_DEG) / 10)
         reasons.append(f"the edges of an arm are not parallel ({worst_taper:.0f} deg apart)")
     outl = max(fin["outliers"], hand["outliers"])
     if outl > 0.3:

@@ -152,7 +152,8 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
     n3, comp3, stats3, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
-    keep = [j for j in range(1, n3) if ((comp3 == j) & border_full).any()]
+    touching3 = np.bincount(comp3[border_full], minlength=n3)
+    keep = [j for j in range(1, n3) if touching3[j]]
     if keep:
         mask = (comp3 == max(keep, key=lambda j: stats3[j, cv2.CC_STAT_AREA])).astype(np.uint8)
     # Close notches narrower than half the arm (tape or a strap in a background colour
@@ -166,7 +167,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     # holes are background regions that do not reach the border
     n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
     is_hole = (np.bincount(comp2[border_full], minlength=n2) == 0) & (stats2[:, cv2.CC_STAT_AREA] < 0.2 * mask.sum())
-    is_hole[0] = False
+    is_hole[0] = False   # label 0 is the silhouette itself
     filled[is_hole[comp2]] = 1
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
