@@ -31,6 +31,7 @@ import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
+from flexcal.vision.edges import inward_normals, skin_edge
 from flexcal.vision.segment import segment_finger
 
 METHODS = ("auto", "contour", "markers")
@@ -314,6 +315,7 @@ def _measure_contour(bgr, segmented=None):
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
     near_b = mtree.query(b_pts)[1]
+    normals = {id(a_pts): inward_normals(a_pts, mid[near_a]), id(b_pts): inward_normals(b_pts, mid[near_b])}
 
     def arms_at(bk):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
@@ -332,10 +334,14 @@ def _measure_contour(bgr, segmented=None):
                 m = (s[near] >= lo_s) & (s[near] <= hi_s)
                 if m.sum() < 8:
                     return None
-                c_e, d_e, r_e, w_e = _robust_line(side[m])
+                pts, keep = skin_edge(work, side[m], normals[id(side)][m], wf)
+                pts = pts[keep]
+                if len(pts) < 8:
+                    return None
+                c_e, d_e, r_e, w_e = _robust_line(pts)
                 if np.dot(d_e, dm) < 0:
                     d_e = -d_e
-                se = _line_dir_se(side[m], r_e, w_e, corr_len=0.5 * wf)
+                se = _line_dir_se(pts, r_e, w_e, corr_len=0.5 * wf)
                 edges.append((c_e, d_e, se, r_e, w_e))
             d_axis = edges[0][1] + edges[1][1]
             d_axis /= np.linalg.norm(d_axis)

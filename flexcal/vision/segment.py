@@ -17,11 +17,13 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
+from skimage.graph import MCP_Geometric
 
 _CHROMA_SCALE = 300.0
 _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
+_SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
 
 
 @dataclass
@@ -92,6 +94,67 @@ def _pick(fg, border):
     return best, comp, candidates
 
 
+def _free_end(part, border):
+    """The (row, col) of the part farthest from where it leaves the picture, along the part.
+
+    Distances are geodesic (paths inside the part, at a quarter of the resolution): a
+    platform joined to the hand may reach farther from the border in a straight line.
+    """
+    q = 4
+    small = cv2.resize(part, (part.shape[1] // q, part.shape[0] // q), interpolation=cv2.INTER_NEAREST) > 0
+    starts = np.column_stack(np.nonzero(small & _border_pixels(small.shape)))
+    if len(starts) == 0 or not small.any():
+        return np.array(np.unravel_index(np.argmax(cv2.distanceTransform(part, cv2.DIST_L2, 3)), part.shape))
+    cost = np.where(small, 1.0, np.inf)
+    dist, _ = MCP_Geometric(cost).find_costs(starts)
+    dist[~np.isfinite(dist)] = -1
+    r, c = np.unravel_index(np.argmax(dist), dist.shape)
+    # the part's pixel nearest to that block's centre, at full resolution
+    ys, xs = np.nonzero(part[r * q:(r + 1) * q, c * q:(c + 1) * q])
+    if len(ys) == 0:
+        return np.array([r * q + q // 2, c * q + q // 2])
+    return np.array([r * q + ys[len(ys) // 2], c * q + xs[len(xs) // 2]])
+
+
+def _tip_colours(part, labels, border):
+    """The part of ``part`` in the fingertip's own colours, when ``part`` is more than a tube.
+
+    A platform's face or a patch of wall in a colour of its own can join the hand where
+    they touch, giving one part that meets the picture's border over far more than a
+    forearm's thickness. The free end is still the fingertip: keep the colours found
+    near it (skin, nail, glove), bridge what crosses the arm in other colours (strip,
+    tape), and take the piece that holds the tip, if it still leaves the picture.
+    """
+    contact = np.column_stack(np.nonzero(part & border))
+    if len(contact) == 0:
+        return part
+    tip = _free_end(part, border)
+    dt = cv2.distanceTransform(part, cv2.DIST_L2, 3)
+    yy, xx = np.ogrid[: part.shape[0], : part.shape[1]]
+    near = (yy - tip[0]) ** 2 + (xx - tip[1]) ** 2
+    # the finger's half width: the largest inscribed circle a little way in from the
+    # tip (not further: the hand may be thicker, or joined to something)
+    half = float(dt[near <= 100].max())
+    half = float(dt[near <= (3 * max(half, 2.0)) ** 2].max())
+    rho = 4.0 * max(half, 2.0)          # the tip's region: about two finger widths
+    # the forearm crosses the border over about one arm's thickness (more when it
+    # leaves at a slant); much more is something else joined to the hand
+    if len(contact) <= 3 * 2 * half:
+        return part
+    region = (near <= rho * rho) & (part > 0)
+    share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
+    own = np.isin(labels, np.nonzero(share >= 0.1)[0]) & (part > 0)
+    d = max(3, int(round(half)) | 1)
+    own = cv2.morphologyEx(own.astype(np.uint8), cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
+    own &= part
+    n, comp = cv2.connectedComponents(own, connectivity=8)
+    j = comp[tip[0], tip[1]]
+    if j == 0:
+        return part
+    piece = (comp == j).astype(np.uint8)
+    return piece if (piece & border).any() else part
+
+
 def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, seed: int = 0) -> Segmentation:
     """Segment the hand and finger in a BGR uint8 image (working resolution)."""
     h, w = bgr.shape[:2]
@@ -108,11 +171,15 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     border = _border_pixels(labels_s.shape)
     n_border = border.sum()
     share = np.array([(labels_s[border] == c).sum() / n_border for c in range(k)])
-    background = share > border_share
+    # k-means may split one surface into clusters of nearly the same colour (vignetting,
+    # texture, a gradient of light): such clusters share their border share
+    same = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < _SAME_SURFACE
+    group = same.astype(float) @ share
+    background = group > border_share
     # a cluster with a background cluster's chromaticity but somewhat darker is that
     # background in shadow (a black glove on a grey wall is much darker than any shadow)
     for c in np.nonzero(~background)[0]:
-        for bg in np.nonzero(share > border_share)[0]:
+        for bg in np.nonzero(group > border_share)[0]:
             dchroma = np.linalg.norm(centres[c, :2] - centres[bg, :2])
             ratio = np.exp((centres[c, 2] - centres[bg, 2]) / _LIGHT_SCALE)
             if dchroma < _SHADOW_CHROMA and _SHADOW_RATIO[0] < ratio < _SHADOW_RATIO[1]:
@@ -144,7 +211,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     if best is None:
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
                             n_candidates=candidates)
-    mask = (comp == best).astype(np.uint8)
+    mask = _tip_colours((comp == best).astype(np.uint8), labels, border_full)
     # Drop thin attachments (the sensor's lead, wires, a strap's end) by an opening a
     # third as wide as the arm, then keep the piece that still touches the border.
     r = _arm_radius(mask)

@@ -1,0 +1,95 @@
+"""Where the skin (or glove) ends, under whatever is stuck on the finger.
+
+The silhouette's outline is the outline of the finger *and* of what lies on it: the
+flex-sensor strip along the back, the tape bands holding it, the sensor's connector.
+The strip is stiff and bridges the hollow behind the knuckle, so its outer edge is
+not parallel to the bone, and tape bands stand off the skin on both sides: lines
+fitted to that outline are tilted and uneven. The finger's own edge is where the
+arm's own colour begins, looking inwards from the outline.
+
+For each outline point the colour is sampled along the inward normal and compared
+with the arm's core colour on that side (taken at a depth where nothing attached
+reaches): the skin edge is the first place, going inwards, from which the colour
+stays like the core. Points whose profile never reaches the core colour within the
+search depth (a tape band that crosses the whole finger) are dropped.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from flexcal.vision.segment import _features
+
+STEP_PX = 0.5            # sampling step along the normal
+CORE_DEPTH = (0.22, 0.4)  # where the core colour is taken, in finger widths from the outline
+SEARCH_DEPTH = 0.3       # how deep an attached layer may be, in finger widths
+RUN_PX = 2.0             # the colour must stay core-like this far to count as the skin's edge
+MIN_LAYER_PX = 1.0       # shallower departures are the outline's own blur, not a layer
+LIGHT_WEIGHT = 0.35      # shading changes brightness across a round finger; colour counts more
+
+
+def inward_normals(pts, towards):
+    """Unit normals of a 1-px resampled outline, turned to point at ``towards`` (per point)."""
+    t = np.gradient(pts, axis=0)
+    t /= np.linalg.norm(t, axis=1, keepdims=True) + 1e-12
+    n = np.column_stack([-t[:, 1], t[:, 0]])
+    flip = np.einsum("ij,ij->i", n, towards - pts) < 0
+    n[flip] *= -1
+    return n
+
+
+def _profiles(bgr, pts, normals, depth_px):
+    """Feature profiles (N, steps, 3) sampled inwards from each point, and the depths."""
+    t = np.arange(0.0, depth_px + STEP_PX / 2, STEP_PX, dtype=np.float32)
+    xy = pts[:, None, :].astype(np.float32) + normals[:, None, :].astype(np.float32) * t[None, :, None]
+    samples = cv2.remap(bgr, xy[..., 0], xy[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return _features(samples).reshape(len(pts), len(t), 3), t
+
+
+def _distance(feats, ref):
+    d = feats - ref
+    return np.sqrt(d[..., 0] ** 2 + d[..., 1] ** 2 + (LIGHT_WEIGHT * d[..., 2]) ** 2)
+
+
+def skin_edge(bgr, pts, normals, width_px):
+    """The skin's edge under each outline point of one side of one arm.
+
+    Returns (points, keep): points moved inwards onto the skin's edge where a layer of
+    another colour lies on it, and a boolean mask of the points that found skin.
+    """
+    if len(pts) == 0:
+        return pts, np.zeros(0, bool)
+    depth = CORE_DEPTH[1] * width_px
+    prof, t = _profiles(bgr, pts, normals, depth)
+    core = (t >= CORE_DEPTH[0] * width_px) & (t <= CORE_DEPTH[1] * width_px)
+    ref = np.median(prof[:, core].reshape(-1, 3), axis=0)
+    dist = _distance(prof, ref)
+    spread = np.median(np.abs(dist[:, core] - np.median(dist[:, core])))
+    thr = max(10.0, np.median(dist[:, core]) + 4 * 1.4826 * spread)
+    like = dist <= thr
+    # like[i, j] and the next RUN_PX of samples all core-like
+    run = max(1, int(round(RUN_PX / STEP_PX)))
+    c = np.cumsum(np.pad(~like, ((0, 0), (1, 0))), axis=1)
+    steady = (c[:, run:] - c[:, :-run]) == 0          # (N, steps - run + 1): samples j..j+run-1 all like
+    searchable = t[: steady.shape[1]] <= SEARCH_DEPTH * width_px
+    steady &= searchable[None, :]
+    found = steady.any(axis=1)
+    first = np.where(found, steady.argmax(axis=1), 0)
+    # The edge between the layer and the skin is where the colour is half-way between
+    # the two (sub-pixel), not where it has become skin (that lies in the skin's
+    # shaded rim, deeper where the rim is darker).
+    rows = np.arange(len(pts))
+    layer = np.where(np.arange(dist.shape[1])[None, :] < first[:, None], dist, 0.0).max(axis=1)
+    half = (layer + dist[rows, first]) / 2
+    j = np.maximum(first - 1, 0)
+    while True:   # step back over samples still below half-way (the blurred transition)
+        back = (j > 0) & (dist[rows, j] < half)
+        if not back.any():
+            break
+        j = np.where(back, j - 1, j)
+    d0, d1 = dist[rows, j], dist[rows, np.minimum(j + 1, dist.shape[1] - 1)]
+    frac = np.clip((d0 - half) / np.maximum(d0 - d1, 1e-6), 0, 1)
+    shift = np.where(first > 0, t[j] + frac * STEP_PX, 0.0)
+    shift[shift < MIN_LAYER_PX] = 0.0
+    return pts + normals * shift[:, None], found
