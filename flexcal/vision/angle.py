@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 from scipy.spatial import cKDTree
+from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import inward_normals, skin_edge
 from flexcal.vision.segment import segment_finger
@@ -228,7 +229,48 @@ KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
+FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
+KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
+
+
+def _kink(pm):
+    """Angle (deg) between straight lines through the two halves of an arm's midline.
+
+    A straight arm gives a few tenths of a degree; a joint inside the window (the next
+    joint of a bent finger, the knuckle of a window placed wrongly) gives its bend.
+    """
+    half = len(pm) // 2
+    if half < 6:
+        return 0.0
+    d1, d2 = _robust_line(pm[:half])[1], _robust_line(pm[half:])[1]
+    return float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(d1, d2)))))))
+
+
+def _free_branches(mask, width_px):
+    """How many branches of the silhouette's skeleton end freely (not at the picture's
+    edge) and are longer than ``FORK_WIDTHS`` finger widths (``width_px``, working pixels).
+
+    A hand and finger is one tube with one free end, the fingertip; a second long free
+    branch is something else joined to it (another finger, an object, a cable).
+    """
+    q = 2
+    small = cv2.resize(mask, (mask.shape[1] // q, mask.shape[0] // q), interpolation=cv2.INTER_AREA) > 0
+    sk = skeletonize(small).astype(np.uint8)
+    nb = cv2.filter2D(sk, -1, np.ones((3, 3), np.float32), borderType=cv2.BORDER_CONSTANT) - sk
+    ends = (sk > 0) & (nb == 1)
+    # the skeleton of an arm cut by the frame stops about half its width short of it:
+    # an end near silhouette pixels on the picture's edge is where the arm leaves it
+    cut = np.zeros_like(small)
+    cut[0, :], cut[-1, :], cut[:, 0], cut[:, -1] = small[0, :], small[-1, :], small[:, 0], small[:, -1]
+    m = max(3, int(round(1.5 * width_px / q)))
+    ends &= cv2.dilate(cut.astype(np.uint8), np.ones((2 * m + 1, 2 * m + 1), np.uint8)) == 0
+    # branches: the skeleton with its junctions (and their neighbours) taken out
+    junctions = cv2.dilate(((sk > 0) & (nb >= 3)).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    n, comp = cv2.connectedComponents(((sk > 0) & ~junctions).astype(np.uint8), connectivity=8)
+    length = np.bincount(comp.ravel(), minlength=n) * q
+    ids = comp[ends]
+    return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
 def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
@@ -286,6 +328,9 @@ def _measure_contour(bgr, segmented=None):
         wf = float(np.median(width[near]))
     if wf < 4:
         return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
+    if _free_branches(seg.mask, wf) > 1:
+        return failed("the silhouette forks: something (another finger, a cable, an object) touches the hand "
+                      "or finger; give an ROI around the finger or move the object", "contour")
     lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
     if hi <= lo:
         return failed("too little of the hand is in the picture to measure its direction", "contour")
@@ -361,7 +406,7 @@ def _measure_contour(bgr, segmented=None):
                 d_axis = -d_axis
             outlier_share = float(np.mean([1 - np.mean(e[4] > 0.05) for e in edges]))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
-                            length=(hi_s - lo_s)))
+                            length=(hi_s - lo_s), kink=_kink(pm)))
         return res
 
     arms = arms_at(b)
@@ -393,6 +438,12 @@ def _measure_contour(bgr, segmented=None):
     if worst_taper > TAPER_DOUBT_DEG:
         conf *= max(0.0, 1 - (worst_taper - TAPER_DOUBT_DEG) / 10)
         reasons.append(f"the edges of an arm are not parallel ({worst_taper:.0f} deg apart)")
+    # a joint inside an arm's window: the next joint of a bent finger (or the knuckle,
+    # when the windows are misplaced) would add its bend to the answer
+    kink = max(fin["kink"] - KINK_TOL_DEG[0], hand["kink"] - KINK_TOL_DEG[1])
+    if kink > 0:
+        conf *= max(0.0, 1 - kink / 4.0)
+        reasons.append(f"an arm is not straight (bent by {max(fin['kink'], hand['kink']):.0f} deg inside it)")
     outl = max(fin["outliers"], hand["outliers"])
     if outl > 0.3:
         conf *= max(0.0, 1 - (outl - 0.3) / 0.5)
@@ -425,7 +476,8 @@ def _measure_contour(bgr, segmented=None):
         proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
         details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=seg.contrast,
-                     taper_deg=worst_taper, spread_deg=spread),
+                     taper_deg=worst_taper, spread_deg=spread, kink_deg=max(fin["kink"], hand["kink"]),
+                     kink_fin=fin["kink"], kink_hand=hand["kink"]),
     )
     return _grade(meas, reasons)
 
