@@ -145,3 +145,32 @@ def test_round_coloured_things_off_the_finger_are_not_markers():
     m = measure_angle(img)                                               # auto: they are not on the finger
     assert m.method == "contour"
     assert abs(m.angle_deg - truth.angle_deg) < 2.0
+
+
+def test_an_object_joined_to_the_hand_is_refused_not_measured():
+    img, truth = render_finger(60.0, shape=(480, 640), rng=7, difficulty="clean", sensor=False)
+    assert measure_angle(img).status == "ok"
+    # a rod in the hand's own colour standing on the back of the hand, into free space
+    core = cv2.erode(truth.mask.astype(np.uint8), np.ones((15, 15), np.uint8)) > 0
+    colour = np.median(img[core], axis=0).astype(int).tolist()
+    x, y = (int(v) for v in truth.proximal_xy[4])             # on the hand's axis, behind the knuckle
+    cv2.line(img, (x, y), (x, y - 150), colour, 18, cv2.LINE_AA)
+    m = measure_angle(img)
+    assert m.status == "failed" and "forks" in m.reason
+
+
+def test_skin_edge_is_found_under_a_strip_and_tape_is_dropped():
+    from flexcal.vision.edges import skin_edge
+    img = np.full((120, 200, 3), (200, 205, 210), np.uint8)
+    img[40:80, :] = (120, 150, 200)                  # a horizontal "finger", skin coloured
+    img[40:45, :] = (45, 45, 45)                     # a dark strip on its top edge, 5 px
+    img[36:84, 120:140] = (220, 225, 228)            # a tape band across it, wider than it
+    xs = np.arange(10, 190, 1.0)
+    top = np.column_stack([xs, np.full_like(xs, 39.5)])
+    normals = np.tile([0.0, 1.0], (len(xs), 1))
+    pts, keep = skin_edge(img, top, normals, width_px=40)
+    on_tape = (xs >= 118) & (xs <= 141)
+    assert not keep[(xs > 122) & (xs < 138)].any()
+    assert keep[~on_tape].all()
+    # under the strip the edge is the strip/skin boundary (y = 44.5), not the outline
+    assert np.allclose(pts[~on_tape, 1], 44.5, atol=0.6)
