@@ -229,6 +229,7 @@ KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
+MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
@@ -412,6 +413,14 @@ def _measure_contour(bgr, segmented=None):
     arms = arms_at(b)
     if arms is None:
         return failed("the arms are too short to fit lines to", "contour")
+    # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
+    # a "finger" as wide as the hand is two fingers together, or not a finger at all.
+    in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
+    hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
+    if hand_ratio < MIN_HAND_TO_FINGER:
+        return failed(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
+                      "may overlap, or something else is joined to the hand: give an ROI around one finger",
+                      "contour")
     fin, hand = arms
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
@@ -476,6 +485,7 @@ def _measure_contour(bgr, segmented=None):
         proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
         details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=seg.contrast,
+                     hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_deg=max(fin["kink"], hand["kink"]),
                      kink_fin=fin["kink"], kink_hand=hand["kink"]),
     )
