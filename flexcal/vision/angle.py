@@ -11,9 +11,14 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    anatomical range of 3 to 7 finger widths from the tip, that best splits the
    midline into two straight arms (windows on either side leave out the rounded
    knuckle and stop short of the next joint);
-5. straight lines fitted (robustly) to each arm's edges on both sides; each arm's
-   axis is the bisector of its two edges, so a tapered finger is measured along its
-   middle; the bend is the angle between the axes, the vertex their intersection.
+5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
+   own edge under the sensor strip and tape (``edges.py``); each arm's axis is the
+   bisector of its two edges, so a tapered finger is measured along its middle; the
+   bend is the angle between the axes, the vertex their intersection.
+
+It refuses rather than guess when the silhouette forks (a second long free branch: an
+object or another finger joined to the hand) or when the part taken for the finger is
+as wide as the hand, and its confidence drops when an arm bends inside its window.
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -361,7 +366,8 @@ def _measure_contour(bgr, segmented=None):
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
     near_b = mtree.query(b_pts)[1]
-    normals = {id(a_pts): inward_normals(a_pts, mid[near_a]), id(b_pts): inward_normals(b_pts, mid[near_b])}
+    sides = ((a_pts, near_a, inward_normals(a_pts, mid[near_a])),
+             (b_pts, near_b, inward_normals(b_pts, mid[near_b])))
 
     def arms_at(bk):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
@@ -376,11 +382,11 @@ def _measure_contour(bgr, segmented=None):
             cm, dm, _ = _fit_line(pm)
             # the outline points whose nearest midline point lies in this window
             edges = []
-            for side, near in ((a_pts, near_a), (b_pts, near_b)):
+            for side, near, normals in sides:
                 m = (s[near] >= lo_s) & (s[near] <= hi_s)
                 if m.sum() < 8:
                     return None
-                pts, keep = skin_edge(work, side[m], normals[id(side)][m], wf)
+                pts, keep = skin_edge(work, side[m], normals[m], wf)
                 pts = pts[keep]
                 if len(pts) < 8:
                     return None
@@ -486,8 +492,7 @@ def _measure_contour(bgr, segmented=None):
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
         details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=seg.contrast,
                      hand_to_finger_width=hand_ratio,
-                     taper_deg=worst_taper, spread_deg=spread, kink_deg=max(fin["kink"], hand["kink"]),
-                     kink_fin=fin["kink"], kink_hand=hand["kink"]),
+                     taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"]),
     )
     return _grade(meas, reasons)
 

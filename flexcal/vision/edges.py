@@ -9,9 +9,10 @@ arm's own colour begins, looking inwards from the outline.
 
 For each outline point the colour is sampled along the inward normal and compared
 with the arm's core colour on that side (taken at a depth where nothing attached
-reaches): the skin edge is the first place, going inwards, from which the colour
-stays like the core. Points whose profile never reaches the core colour within the
-search depth (a tape band that crosses the whole finger) are dropped.
+reaches). Where the profile starts with a layer of another colour, the skin's edge is
+where the colour is half-way between the layer's and the skin's (sub-pixel), just
+before the profile settles on the core colour. Points whose profile never settles
+within the search depth (a tape band that crosses the whole finger) are dropped.
 """
 
 from __future__ import annotations

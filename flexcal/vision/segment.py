@@ -6,9 +6,11 @@ hand form one connected region of similar colour that enters the picture from an
 the background (wall, platform) consists of large regions that occupy much of the
 picture's border. Colours are clustered with k-means on chromaticity and a damped log
 intensity (so that shading across the round finger and shadows on the wall do not
-split a surface); clusters
-that cover a large share of the border are background; what is left is split into
-connected parts and the most finger-like part that touches the border wins.
+split a surface); clusters that cover a large share of the border, alone or with
+clusters of nearly the same colour, are background; what is left is split into
+connected parts and the most finger-like part that touches the border wins. When that
+part crosses the border far more widely than a forearm (a platform joined to the
+hand), only the fingertip's own colours are kept.
 """
 
 from __future__ import annotations
@@ -109,7 +111,7 @@ def _free_end(part, border):
     dist, _ = MCP_Geometric(cost).find_costs(starts)
     dist[~np.isfinite(dist)] = -1
     r, c = np.unravel_index(np.argmax(dist), dist.shape)
-    # the part's pixel nearest to that block's centre, at full resolution
+    # a pixel of the part inside that block, at full resolution
     ys, xs = np.nonzero(part[r * q:(r + 1) * q, c * q:(c + 1) * q])
     if len(ys) == 0:
         return np.array([r * q + q // 2, c * q + q // 2])
