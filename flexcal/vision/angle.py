@@ -38,7 +38,7 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import inward_normals, skin_edge
-from flexcal.vision.segment import segment_finger
+from flexcal.vision.segment import border_pixels, segment_finger
 
 METHODS = ("auto", "contour", "markers")
 WORK_SIZE = 640            # long side of the working resolution, pixels
@@ -267,8 +267,7 @@ def _free_branches(mask, width_px):
     ends = (sk > 0) & (nb == 1)
     # the skeleton of an arm cut by the frame stops about half its width short of it:
     # an end near silhouette pixels on the picture's edge is where the arm leaves it
-    cut = np.zeros_like(small)
-    cut[0, :], cut[-1, :], cut[:, 0], cut[:, -1] = small[0, :], small[-1, :], small[:, 0], small[:, -1]
+    cut = small & border_pixels(small.shape)
     m = max(3, int(round(1.5 * width_px / q)))
     ends &= cv2.dilate(cut.astype(np.uint8), np.ones((2 * m + 1, 2 * m + 1), np.uint8)) == 0
     # branches: the skeleton with its junctions (and their neighbours) taken out

@@ -20,7 +20,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from flexcal.vision.segment import _features
+from flexcal.vision.segment import colour_features
 
 STEP_PX = 0.5            # sampling step along the normal
 CORE_DEPTH = (0.22, 0.4)  # where the core colour is taken, in finger widths from the outline
@@ -45,7 +45,7 @@ def _profiles(bgr, pts, normals, depth_px):
     t = np.arange(0.0, depth_px + STEP_PX / 2, STEP_PX, dtype=np.float32)
     xy = pts[:, None, :].astype(np.float32) + normals[:, None, :].astype(np.float32) * t[None, :, None]
     samples = cv2.remap(bgr, xy[..., 0], xy[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return _features(samples).reshape(len(pts), len(t), 3), t
+    return colour_features(samples).reshape(len(pts), len(t), 3), t
 
 
 def _distance(feats, ref):

@@ -38,7 +38,7 @@ class Segmentation:
     n_candidates: int = 0
 
 
-def _features(bgr):
+def colour_features(bgr):
     """Per-pixel colour features that shading and shadows barely change.
 
     Chromaticity (each channel's share of the sum) does not change when a surface is
@@ -52,7 +52,8 @@ def _features(bgr):
     return np.hstack([chroma, light])
 
 
-def _border_pixels(shape):
+def border_pixels(shape):
+    """A boolean image that is True on the picture's outermost rows and columns."""
     h, w = shape
     m = np.zeros(shape, bool)
     m[0, :] = m[-1, :] = m[:, 0] = m[:, -1] = True
@@ -104,7 +105,7 @@ def _free_end(part, border):
     """
     q = 4
     small = cv2.resize(part, (part.shape[1] // q, part.shape[0] // q), interpolation=cv2.INTER_NEAREST) > 0
-    starts = np.column_stack(np.nonzero(small & _border_pixels(small.shape)))
+    starts = np.column_stack(np.nonzero(small & border_pixels(small.shape)))
     if len(starts) == 0 or not small.any():
         return np.array(np.unravel_index(np.argmax(cv2.distanceTransform(part, cv2.DIST_L2, 3)), part.shape))
     cost = np.where(small, 1.0, np.inf)
@@ -127,8 +128,8 @@ def _tip_colours(part, labels, border):
     near it (skin, nail, glove), bridge what crosses the arm in other colours (strip,
     tape), and take the piece that holds the tip, if it still leaves the picture.
     """
-    contact = np.column_stack(np.nonzero(part & border))
-    if len(contact) == 0:
+    contact = int((part & border).sum())
+    if contact == 0:
         return part
     tip = _free_end(part, border)
     dt = cv2.distanceTransform(part, cv2.DIST_L2, 3)
@@ -141,7 +142,7 @@ def _tip_colours(part, labels, border):
     rho = 4.0 * max(half, 2.0)          # the tip's region: about two finger widths
     # the forearm crosses the border over about one arm's thickness (more when it
     # leaves at a slant); much more is something else joined to the hand
-    if len(contact) <= 3 * 2 * half:
+    if contact <= 3 * 2 * half:
         return part
     region = (near <= rho * rho) & (part > 0)
     share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
@@ -163,14 +164,14 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     small_w = 160
     f = small_w / w
     small = cv2.resize(bgr, (small_w, max(8, int(round(h * f)))), interpolation=cv2.INTER_AREA)
-    feats = _features(small)
+    feats = colour_features(small)
     if small.std() < 2.0:
         return Segmentation(None, "the picture has no contrast (blank, all black or all white)")
     cv2.setRNGSeed(seed)
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 20, 0.5)
     _, labels_s, centres = cv2.kmeans(feats, k, None, crit, 2, cv2.KMEANS_PP_CENTERS)
     labels_s = labels_s.reshape(small.shape[:2])
-    border = _border_pixels(labels_s.shape)
+    border = border_pixels(labels_s.shape)
     n_border = border.sum()
     share = np.array([(labels_s[border] == c).sum() / n_border for c in range(k)])
     # k-means may split one surface into clusters of nearly the same colour (vignetting,
@@ -190,7 +191,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
         return Segmentation(None, "could not tell the finger from the background (no distinct foreground colour)")
 
     # classify every working-resolution pixel by its nearest centre
-    fe = _features(cv2.GaussianBlur(bgr, (3, 3), 0))
+    fe = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0))
     d2 = (centres ** 2).sum(axis=1)[None, :] - 2.0 * (fe @ centres.T)   # |f - c|^2 - |f|^2
     labels = d2.argmin(axis=1).reshape(h, w)
     fg = (~background[labels]).astype(np.uint8)
@@ -199,7 +200,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     kern = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (width_guess, width_guess))
     fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, kern)      # drops thin things: cables, wires
     fg = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
-    best, comp, candidates = _pick(fg, border_full := _border_pixels((h, w)))
+    best, comp, candidates = _pick(fg, border_full := border_pixels((h, w)))
     if best is not None:
         # Bridge what crosses the finger in a background colour (tape, a strap, a
         # highlight): close gaps up to half an arm's width, then choose again.
