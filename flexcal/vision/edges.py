@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from scipy.ndimage import binary_dilation
 
 from flexcal.vision.segment import colour_features
 
@@ -27,6 +28,7 @@ CORE_DEPTH = (0.22, 0.4)  # where the core colour is taken, in finger widths fro
 SEARCH_DEPTH = 0.3       # how deep an attached layer may be, in finger widths
 RUN_PX = 2.0             # the colour must stay core-like this far to count as the skin's edge
 MIN_LAYER_PX = 1.0       # shallower departures are the outline's own blur, not a layer
+BAND_MARGIN = 0.25       # outline dropped on either side of a band across the finger, in widths
 LIGHT_WEIGHT = 0.35      # shading changes brightness across a round finger; colour counts more
 
 
@@ -93,4 +95,9 @@ def skin_edge(bgr, pts, normals, width_px):
     frac = np.clip((d0 - half) / np.maximum(d0 - d1, 1e-6), 0, 1)
     shift = np.where(first > 0, t[j] + frac * STEP_PX, 0.0)
     shift[shift < MIN_LAYER_PX] = 0.0
+    # the outline next to a band that crosses the finger runs along the band's own
+    # edge (and the rounded notch the silhouette's closing left there): drop it too
+    k = int(round(BAND_MARGIN * width_px))
+    if k > 0 and not found.all():
+        found = found & ~binary_dilation(~found, np.ones(2 * k + 1, bool))
     return pts + normals * shift[:, None], found
