@@ -52,6 +52,24 @@ def colour_features(bgr):
     return np.hstack([chroma, light])
 
 
+def _classify(bgr, labels_small, centres):
+    """The nearest colour centre of every working-resolution pixel.
+
+    Inside a surface the clustered thumbnail already knows the answer: only pixels near
+    a change of cluster in the thumbnail (a 3x3 neighbourhood of its pixels holding more
+    than one cluster) are classified one by one.
+    """
+    h, w = bgr.shape[:2]
+    labels = cv2.resize(labels_small, (w, h), interpolation=cv2.INTER_NEAREST)
+    k3 = np.ones((3, 3), np.uint8)
+    mixed = cv2.dilate(labels_small, k3) != cv2.erode(labels_small, k3)
+    mixed = cv2.resize(mixed.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+    fe = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0)[mixed])
+    d2 = (centres ** 2).sum(axis=1)[None, :] - 2.0 * (fe @ centres.T)   # |f - c|^2 - |f|^2
+    labels[mixed] = d2.argmin(axis=1)
+    return labels
+
+
 def border_pixels(shape):
     """A boolean image that is True on the picture's outermost rows and columns."""
     h, w = shape
@@ -190,10 +208,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     if background.all() or not background.any():
         return Segmentation(None, "could not tell the finger from the background (no distinct foreground colour)")
 
-    # classify every working-resolution pixel by its nearest centre
-    fe = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0))
-    d2 = (centres ** 2).sum(axis=1)[None, :] - 2.0 * (fe @ centres.T)   # |f - c|^2 - |f|^2
-    labels = d2.argmin(axis=1).reshape(h, w)
+    labels = _classify(bgr, labels_s.astype(np.uint8), centres)
     fg = (~background[labels]).astype(np.uint8)
 
     width_guess = max(3, int(round(min(h, w) * 0.012)))
