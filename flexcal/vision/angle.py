@@ -221,11 +221,37 @@ def _arm_window(mid, s, lo, hi):
     return mid[m]
 
 
-def _trimmed_ms(r, keep=0.8):
-    """Mean of the smallest ``keep`` share of squared residuals (bumps such as tape or a
-    connector on the back of the hand do not make a straight arm look bent)."""
-    q = np.sort(r * r)
-    return float(q[: max(1, int(len(q) * keep))].mean())
+def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.8):
+    """For each candidate knuckle: how well two straight lines fit the midline, one over
+    [span_lo, finger_end] and one over [hand_start, span_hi] (arclengths ``s``).
+
+    The score is the mean of the smallest ``keep`` share of squared residuals (bumps
+    such as tape or a connector on the back of the hand do not make a straight arm look
+    bent); inf where a window holds fewer than 8 points. All candidates at once: each
+    window's total-least-squares line from its moments, then every point's residual.
+    """
+    sel = (s >= span_lo) & (s <= span_hi)
+    p, t = mid[sel], s[sel]
+    in_f = t[None, :] <= finger_ends[:, None]
+    in_h = t[None, :] >= hand_starts[:, None]
+
+    def sq_residuals(member):
+        w = member.astype(float)
+        n = np.maximum(w.sum(axis=1), 1.0)
+        c = (w @ p) / n[:, None]
+        sxx = w @ (p[:, 0] ** 2) / n - c[:, 0] ** 2
+        syy = w @ (p[:, 1] ** 2) / n - c[:, 1] ** 2
+        sxy = w @ (p[:, 0] * p[:, 1]) / n - c[:, 0] * c[:, 1]
+        theta = 0.5 * np.arctan2(2 * sxy, sxx - syy)     # the principal axis
+        nx, ny = -np.sin(theta), np.cos(theta)
+        r = (p[None, :, 0] - c[:, None, 0]) * nx[:, None] + (p[None, :, 1] - c[:, None, 1]) * ny[:, None]
+        return r * r
+
+    r2 = np.where(in_f, sq_residuals(in_f), np.where(in_h, sq_residuals(in_h), np.inf))
+    nf, nh = in_f.sum(axis=1), in_h.sum(axis=1)
+    k = np.maximum(1, ((nf + nh) * keep).astype(int))
+    smallest = np.cumsum(np.sort(r2, axis=1), axis=1)[np.arange(len(k)), np.minimum(k, r2.shape[1]) - 1]
+    return np.where((nf >= 8) & (nh >= 8), smallest / k, np.inf)
 
 
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
@@ -237,6 +263,7 @@ TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confi
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
+KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 
@@ -344,16 +371,7 @@ def _measure_contour(bgr, segmented=None):
     # leaves the real bend inside one of the two straight segments.
     span_lo, span_hi = SPAN[0] * wf, min(total, SPAN[1] * wf)
     cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
-    scores = []
-    for b in cands:
-        pf = _arm_window(mid, s, span_lo, b - FIN_WIN[0] * wf)
-        ph = _arm_window(mid, s, b + HAND_WIN[0] * wf, span_hi)
-        if len(pf) < 8 or len(ph) < 8:
-            scores.append(np.inf)
-            continue
-        rf, rh = _fit_line(pf)[2], _fit_line(ph)[2]
-        scores.append(_trimmed_ms(np.concatenate([rf, rh])))
-    scores = np.array(scores)
+    scores = _two_line_scores(mid, s, span_lo, span_hi, cands - FIN_WIN[0] * wf, cands + HAND_WIN[0] * wf)
     if not len(scores) or not np.isfinite(scores).any():
         return failed("could not find two straight arms in the silhouette", "contour")
     # the middle of the run of places that fit (almost) as well as the best
@@ -365,8 +383,17 @@ def _measure_contour(bgr, segmented=None):
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
     near_b = mtree.query(b_pts)[1]
-    sides = ((a_pts, near_a, inward_normals(a_pts, mid[near_a])),
-             (b_pts, near_b, inward_normals(b_pts, mid[near_b])))
+    # The skin's edge along both sides, found once over everything the finger's and the
+    # hand's windows cover when the knuckle moves by KNUCKLE_SHIFT (each arm has its own
+    # core colour): (arclength of the nearest midline point, edge point) per side and arm
+    reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_WIN[0] * wf),
+             +1: (b - KNUCKLE_SHIFT * wf + HAND_WIN[0] * wf, b + KNUCKLE_SHIFT * wf + HAND_WIN[1] * wf)}
+    skin = {}
+    for sign, (lo_s, hi_s) in reach.items():
+        for k, (side, near) in enumerate(((a_pts, near_a), (b_pts, near_b))):
+            m = (s[near] >= lo_s) & (s[near] <= hi_s)
+            pts, keep = skin_edge(work, side[m], inward_normals(side, mid[near])[m], wf)
+            skin[sign, k] = (s[near][m][keep], pts[keep])
 
     def arms_at(bk):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
@@ -381,12 +408,9 @@ def _measure_contour(bgr, segmented=None):
             cm, dm, _ = _fit_line(pm)
             # the outline points whose nearest midline point lies in this window
             edges = []
-            for side, near, normals in sides:
-                m = (s[near] >= lo_s) & (s[near] <= hi_s)
-                if m.sum() < 8:
-                    return None
-                pts, keep = skin_edge(work, side[m], normals[m], wf)
-                pts = pts[keep]
+            for k in (0, 1):
+                s_near, pts = skin[sign, k]
+                pts = pts[(s_near >= lo_s) & (s_near <= hi_s)]
                 if len(pts) < 8:
                     return None
                 c_e, d_e, r_e, w_e = _robust_line(pts)
@@ -432,7 +456,7 @@ def _measure_contour(bgr, segmented=None):
     angle = _bend(d_h_in, d_f_out)
     # sensitivity to where the knuckle is placed
     alt = []
-    for db in (-0.3 * wf, 0.3 * wf):
+    for db in (-KNUCKLE_SHIFT * wf, KNUCKLE_SHIFT * wf):
         r = arms_at(b + db)
         if r is not None:
             alt.append(_bend(-r[1]["d"], -r[0]["d"]))
