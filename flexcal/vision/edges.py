@@ -12,7 +12,8 @@ with the arm's core colour on that side (taken at a depth where nothing attached
 reaches). Where the profile starts with a layer of another colour, the skin's edge is
 where the colour is half-way between the layer's and the skin's (sub-pixel), just
 before the profile settles on the core colour. Points whose profile never settles
-within the search depth (a tape band that crosses the whole finger) are dropped.
+within the search depth (a tape band that crosses the whole finger) are dropped, with
+the outline a quarter of a finger width either side of them (the band's own edge).
 """
 
 from __future__ import annotations

@@ -176,3 +176,21 @@ def test_skin_edge_is_found_under_a_strip_and_tape_is_dropped():
     # under the strip the edge is the strip/skin boundary (y = 44.5), not the outline
     assert np.allclose(pts[~on_tape, 1], 44.5, atol=0.6)
     assert keep.sum() > 0.7 * len(xs)
+
+
+def test_two_line_scores_match_one_fit_per_candidate_and_find_the_bend():
+    from flexcal.vision.angle import _fit_line, _two_line_scores
+    rng = np.random.default_rng(5)
+    # a midline that runs straight for 120 px, then turns by 40 deg at s = 120
+    s = np.sort(rng.uniform(0, 300, 900))
+    d1, d2 = np.array([1.0, 0.0]), np.array([np.cos(np.radians(40)), np.sin(np.radians(40))])
+    mid = np.where((s < 120)[:, None], s[:, None] * d1, 120 * d1 + (s - 120)[:, None] * d2)
+    mid = mid + rng.normal(0, 0.3, mid.shape)
+    cands = np.arange(60.0, 240.0, 4.0)
+    got = _two_line_scores(mid, s, 20.0, 290.0, cands - 10, cands + 15)
+    for b, score in zip(cands, got):
+        pf = mid[(s >= 20) & (s <= b - 10)]
+        ph = mid[(s >= b + 15) & (s <= 290)]
+        r2 = np.sort(np.concatenate([_fit_line(pf)[2], _fit_line(ph)[2]]) ** 2)
+        assert score == pytest.approx(r2[: int(len(r2) * 0.8)].mean(), rel=1e-6)
+    assert abs(cands[np.argmin(got)] - 120) <= 12
