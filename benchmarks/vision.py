@@ -22,10 +22,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from flexcal.capture.images import read_image
-from flexcal.measure import _reduction, _scale
+from flexcal.measure import measure_file
 from flexcal.synthetic import render_finger
-from flexcal.vision import measure_angle
 
 
 def run_suite(difficulty, n, shape, seed, tmp):
@@ -44,9 +42,8 @@ def run_suite(difficulty, n, shape, seed, tmp):
     t0 = time.perf_counter()
     rows = []
     for f in files:
-        red = _reduction(f)
-        img, _ = read_image(f, reduce=red)
-        rows.append(_scale(measure_angle(img), red).row())
+        row, _ = measure_file(f)        # as `flexcal measure` reads and measures a photo
+        rows.append({**row, "image": f.name})
     dt = time.perf_counter() - t0
     details = [{"suite": difficulty, "index": i, **rows[i], "error_deg": rows[i]["angle_deg"] - truth[i],
                 **params[i]} for i in range(n)]

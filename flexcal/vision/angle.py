@@ -405,7 +405,7 @@ def _measure_contour(bgr, segmented=None):
             if sel.sum() < 8:
                 return None
             pm = mid[sel]
-            cm, dm, _ = _fit_line(pm)
+            dm = _fit_line(pm)[1]
             # the outline points whose nearest midline point lies in this window
             edges = []
             for k in (0, 1):

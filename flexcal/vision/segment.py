@@ -191,7 +191,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     labels_s = labels_s.reshape(small.shape[:2])
     border = border_pixels(labels_s.shape)
     n_border = border.sum()
-    share = np.array([(labels_s[border] == c).sum() / n_border for c in range(k)])
+    share = np.bincount(labels_s[border], minlength=k) / n_border
     # k-means may split one surface into clusters of nearly the same colour (vignetting,
     # texture, a gradient of light): such clusters share their border share
     same = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < _SAME_SURFACE
