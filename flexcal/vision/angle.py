@@ -388,11 +388,12 @@ def _measure_contour(bgr, segmented=None):
     # core colour): (arclength of the nearest midline point, edge point) per side and arm
     reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_WIN[0] * wf),
              +1: (b - KNUCKLE_SHIFT * wf + HAND_WIN[0] * wf, b + KNUCKLE_SHIFT * wf + HAND_WIN[1] * wf)}
+    sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
     for sign, (lo_s, hi_s) in reach.items():
-        for k, (side, near) in enumerate(((a_pts, near_a), (b_pts, near_b))):
+        for k, (side, near, normals) in enumerate(sides):
             m = (s[near] >= lo_s) & (s[near] <= hi_s)
-            pts, keep = skin_edge(work, side[m], inward_normals(side, mid[near])[m], wf)
+            pts, keep = skin_edge(work, side[m], normals[m], wf)
             skin[sign, k] = (s[near][m][keep], pts[keep])
 
     def arms_at(bk):
