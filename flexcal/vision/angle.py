@@ -16,9 +16,11 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    bisector of its two edges, so a tapered finger is measured along its middle; the
    bend is the angle between the axes, the vertex their intersection.
 
-It refuses rather than guess when the silhouette forks (a second long free branch: an
-object or another finger joined to the hand) or when the part taken for the finger is
-as wide as the hand, and its confidence drops when an arm bends inside its window.
+When the silhouette forks (a second long free branch: an object or another finger
+joined to the hand), or the part taken for the finger is as wide as the hand, it is
+measured again in only the forearm's own colours (a box or poster of another colour
+joined to the finger drops out); if that does not give an answer, it refuses rather
+than guess. Its confidence drops when an arm bends inside its window.
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -38,7 +40,7 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import inward_normals, skin_edge
-from flexcal.vision.segment import border_pixels, segment_finger
+from flexcal.vision.segment import border_pixels, forearm_colours, segment_finger
 
 METHODS = ("auto", "contour", "markers")
 WORK_SIZE = 640            # long side of the working resolution, pixels
@@ -341,7 +343,28 @@ def _measure_contour(bgr, segmented=None):
     work, f, seg = segmented if segmented is not None else _segment(bgr)
     if seg.mask is None:
         return failed(seg.reason, "contour")
-    chains, why = _outline_chains(seg.mask)
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast)
+    if m.details.get("foreign"):
+        # the silhouette holds more than hand and finger (a box or poster of another
+        # colour, the shadow under the finger): try again in the forearm's own colours
+        alt = forearm_colours(seg)
+        if alt is not None and not np.array_equal(alt, seg.mask):
+            m2 = _measure_silhouette(work, f, alt, seg.contrast)
+            if m2:
+                return m2
+    return m
+
+
+def _foreign(reason):
+    """A failure that says the silhouette holds something besides the hand and finger."""
+    m = failed(reason, "contour")
+    m.details["foreign"] = True
+    return m
+
+
+def _measure_silhouette(work, f, mask, contrast):
+    """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the input)."""
+    chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
     side_a, side_b = chains
@@ -360,12 +383,12 @@ def _measure_contour(bgr, segmented=None):
         wf = float(np.median(width[near]))
     if wf < 4:
         return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
-    if _free_branches(seg.mask, wf) > 1:
-        return failed("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                      "or finger; give an ROI around the finger or move the object", "contour")
+    if _free_branches(mask, wf) > 1:
+        return _foreign("the silhouette forks: something (another finger, a cable, an object) touches the hand "
+                        "or finger; give an ROI around the finger or move the object")
     lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
     if hi <= lo:
-        return failed("too little of the hand is in the picture to measure its direction", "contour")
+        return _foreign("too little of the hand is in the picture to measure its direction")
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
     # leaves the real bend inside one of the two straight segments.
@@ -448,9 +471,8 @@ def _measure_contour(bgr, segmented=None):
     in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
     hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
     if hand_ratio < MIN_HAND_TO_FINGER:
-        return failed(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
-                      "may overlap, or something else is joined to the hand: give an ROI around one finger",
-                      "contour")
+        return _foreign(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
+                        "may overlap, or something else is joined to the hand: give an ROI around one finger")
     fin, hand = arms
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
@@ -470,8 +492,8 @@ def _measure_contour(bgr, segmented=None):
     # confidence: contrast, straightness of the edges, plausible taper, robustness to the knuckle's place
     conf = 1.0
     reasons = []
-    if seg.contrast < 12:
-        conf *= seg.contrast / 12
+    if contrast < 12:
+        conf *= contrast / 12
         reasons.append("weak contrast between finger and background")
     worst_taper = max(fin["taper"], hand["taper"])
     if worst_taper > TAPER_DOUBT_DEG:
@@ -514,7 +536,7 @@ def _measure_contour(bgr, segmented=None):
         vertex=(float(vtx[0] * inv), float(vtx[1] * inv)),
         proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
-        details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=seg.contrast,
+        details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=contrast,
                      hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"]),
     )

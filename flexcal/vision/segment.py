@@ -10,7 +10,10 @@ split a surface); clusters that cover a large share of the border, alone or with
 clusters of nearly the same colour, are background; what is left is split into
 connected parts and the most finger-like part that touches the border wins. When that
 part crosses the border far more widely than a forearm (a platform joined to the
-hand), only the fingertip's own colours are kept.
+hand), only the fingertip's own colours are kept. When the measurement finds more
+than a hand and finger in the silhouette (it forks, or the "finger" is as wide as the
+hand), ``forearm_colours`` gives it the silhouette again in only the colours in which
+the arm leaves the picture.
 """
 
 from __future__ import annotations
@@ -36,6 +39,9 @@ class Segmentation:
     reason: str = ""
     contrast: float = 0.0       # feature distance between object and background colours
     n_candidates: int = 0
+    part: np.ndarray | None = None    # the chosen connected part, before finishing
+    labels: np.ndarray | None = None  # every pixel's colour cluster
+    centres: np.ndarray | None = None  # the clusters' colour features
 
 
 def colour_features(bgr):
@@ -137,6 +143,17 @@ def _free_end(part, border):
     return np.array([r * q + ys[len(ys) // 2], c * q + xs[len(xs) // 2]])
 
 
+def _pieces_in(part, labels, kept, bridge_px):
+    """Connected pieces (n, labels image, stats) of ``part`` in the clusters ``kept``
+    (boolean per cluster), after closing gaps up to about ``bridge_px`` wide (what crosses
+    the arm in other colours: the strip, tape)."""
+    own = (kept[labels] & (part > 0)).astype(np.uint8)
+    d = max(3, int(round(bridge_px)) | 1)
+    own = cv2.morphologyEx(own, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))) & part
+    n, comp, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
+    return n, comp, stats
+
+
 def _tip_colours(part, labels, border):
     """The part of ``part`` in the fingertip's own colours, when ``part`` is more than a tube.
 
@@ -164,11 +181,7 @@ def _tip_colours(part, labels, border):
         return part
     region = (near <= rho * rho) & (part > 0)
     share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
-    own = np.isin(labels, np.nonzero(share >= 0.1)[0]) & (part > 0)
-    d = max(3, int(round(half)) | 1)
-    own = cv2.morphologyEx(own.astype(np.uint8), cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
-    own &= part
-    n, comp = cv2.connectedComponents(own, connectivity=8)
+    _, comp, _ = _pieces_in(part, labels, share >= 0.1, half)
     j = comp[tip[0], tip[1]]
     if j == 0:
         return part
@@ -229,7 +242,18 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     if best is None:
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
                             n_candidates=candidates)
-    mask = _tip_colours((comp == best).astype(np.uint8), labels, border_full)
+    part = (comp == best).astype(np.uint8)
+    filled = _finish(_tip_colours(part, labels, border_full), border_full)
+    obj = labels[filled.astype(bool)]
+    fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
+    bg_centre = centres[np.argmax(share)]
+    contrast = float(np.linalg.norm(fg_centre - bg_centre))
+    return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
+                        centres=centres)
+
+
+def _finish(mask, border):
+    """The silhouette from a chosen part: thin attachments off, notches closed, holes filled."""
     # Drop thin attachments (the sensor's lead, wires, a strap's end) by an opening a
     # third as wide as the arm, then keep the piece that still touches the border.
     r = _arm_radius(mask)
@@ -237,7 +261,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
     n3, comp3, stats3, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
-    touching3 = np.bincount(comp3[border_full], minlength=n3)
+    touching3 = np.bincount(comp3[border], minlength=n3)
     keep = [j for j in range(1, n3) if touching3[j]]
     if keep:
         mask = (comp3 == max(keep, key=lambda j: stats3[j, cv2.CC_STAT_AREA])).astype(np.uint8)
@@ -251,11 +275,39 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, s
     inv = (1 - mask).astype(np.uint8)
     # holes are background regions that do not reach the border
     n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
-    is_hole = (np.bincount(comp2[border_full], minlength=n2) == 0) & (stats2[:, cv2.CC_STAT_AREA] < 0.2 * mask.sum())
+    is_hole = (np.bincount(comp2[border], minlength=n2) == 0) & (stats2[:, cv2.CC_STAT_AREA] < 0.2 * mask.sum())
     is_hole[0] = False   # label 0 is the silhouette itself
     filled[is_hole[comp2]] = 1
-    obj = labels[filled.astype(bool)]
-    fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
-    bg_centre = centres[np.argmax(share)]
-    contrast = float(np.linalg.norm(fg_centre - bg_centre))
-    return Segmentation(filled, contrast=contrast, n_candidates=candidates)
+    return filled
+
+
+def forearm_colours(seg: Segmentation) -> np.ndarray | None:
+    """The silhouette again, in only the colours in which the arm leaves the picture.
+
+    When "everything that is not background" joins the hand to something of another
+    colour (a poster, a box, the shadow under the finger), the hand and finger are
+    still the part in the forearm's own colours (skin or glove): keep the colour
+    clusters that make up the part where it crosses the picture's border, bridge what
+    crosses the arm in other colours (strip, tape) and finish the silhouette as usual.
+    None when that leaves nothing that still reaches the border.
+    """
+    if seg.part is None:
+        return None
+    part, labels = seg.part, seg.labels
+    border = border_pixels(part.shape)
+    r = _arm_radius(part)
+    # the forearm: the part within an arm's thickness of where it crosses the border
+    near = cv2.distanceTransform((~(part.astype(bool) & border)).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * r
+    region = near & (part > 0)
+    if not region.any():
+        return None
+    share = np.bincount(labels[region], minlength=labels.max() + 1) / region.sum()
+    # with the clusters of nearly the same colour (light and shade across the arm)
+    same = np.linalg.norm(seg.centres[:, None, :] - seg.centres[None, :, :], axis=2) < _SAME_SURFACE
+    n, comp, stats = _pieces_in(part, labels, same[share >= 0.03].any(axis=0), r)
+    touching = np.bincount(comp[border], minlength=n)
+    keep = [j for j in range(1, n) if touching[j]]
+    if not keep:
+        return None
+    piece = (comp == max(keep, key=lambda j: stats[j, cv2.CC_STAT_AREA])).astype(np.uint8)
+    return _finish(piece, border)

@@ -194,3 +194,21 @@ def test_two_line_scores_match_one_fit_per_candidate_and_find_the_bend():
         r2 = np.sort(np.concatenate([_fit_line(pf)[2], _fit_line(ph)[2]]) ** 2)
         assert score == pytest.approx(r2[: int(len(r2) * 0.8)].mean(), rel=1e-6)
     assert abs(cands[np.argmin(got)] - 120) <= 12
+
+
+@pytest.mark.parametrize("angle", [45.0, 60.0])
+def test_an_object_of_another_colour_behind_the_finger_is_left_out(angle):
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    img, truth = render_finger(angle, shape=(480, 640), rng=5, difficulty="clean")
+    # a magenta box behind the fingertip, joined to the finger's silhouette
+    d = truth.distal_xy
+    p = d[-1] + (d[-1] - d[0]) / np.linalg.norm(d[-1] - d[0]) * 35
+    box = np.zeros(img.shape[:2], np.uint8)
+    cv2.rectangle(box, (int(p[0]) - 10, int(p[1]) - 10), (int(p[0]) + 110, int(p[1]) + 90), 1, -1)
+    img[(box > 0) & ~truth.mask] = (200, 40, 200)
+    work, f, seg = _segment(img)
+    first = _measure_silhouette(work, f, seg.mask, seg.contrast)
+    assert first.status == "failed" and first.details.get("foreign")   # the box made the finger look too wide
+    m = measure_angle(img)                     # measured again in the forearm's own colours
+    assert m.status == "ok"
+    assert abs(m.angle_deg - angle) < 1.5
