@@ -12,9 +12,12 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    midline into two straight arms (windows on either side leave out the rounded
    knuckle and stop short of the next joint);
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
-   own edge under the sensor strip and tape (``edges.py``); each arm's axis is the
-   bisector of its two edges, so a tapered finger is measured along its middle; the
-   bend is the angle between the axes, the vertex their intersection.
+   own edge under the sensor strip and tape (``edges.py``); the finger's edges are
+   followed from the middle of its window for as long as they run straight (the
+   finger flares towards the knuckle and may bend again at the next joint, so a fixed
+   window would tilt its lines); each arm's axis is the bisector of its two edges, so
+   a tapered finger is measured along its middle; the bend is the angle between the
+   axes, the vertex their intersection.
 
 When the silhouette forks (a second long free branch: an object or another finger
 joined to the hand), or the part taken for the finger is as wide as the hand, it is
@@ -44,7 +47,7 @@ from flexcal.vision.segment import border_pixels, forearm_colours, segment_finge
 
 METHODS = ("auto", "contour", "markers")
 WORK_SIZE = 640            # long side of the working resolution, pixels
-UNC_FLOOR_DEG = 0.25
+UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
 OK_CONFIDENCE = 0.6
 MIN_CONFIDENCE = 0.3
 
@@ -139,6 +142,26 @@ def _robust_line(pts, iters=4):
             break
         c, d, r = _fit_line(pts, w)
     return c, d, r, w
+
+
+def _consensus_line(pts, seed, tol, iters=3):
+    """A line through the points that lie within ``tol`` of it, started from ``seed``.
+
+    The line is first fitted (robustly) to the seed points, then refitted to every point
+    within ``tol`` px of it, a few times: a straight stretch of outline is followed as far
+    as it goes, and where the outline curves away (the knuckle's flare, the next joint)
+    or stands off (tape) it is left out. Returns (centroid, direction, residuals, weights).
+    """
+    c, d, _, w = _robust_line(pts[seed])
+    n = np.array([-d[1], d[0]])
+    for _ in range(iters):
+        r = (pts - c) @ n
+        w = (np.abs(r) < tol).astype(float)
+        if w.sum() < 8:
+            break
+        c, d, _ = _fit_line(pts, w)
+        n = np.array([-d[1], d[0]])
+    return c, d, (pts - c) @ n, w
 
 
 def _line_dir_se(pts, resid, weights, corr_len):
@@ -257,6 +280,8 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
 
 
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
+FIN_EDGE_WIN = (0.6, 2.5)  # the finger's edges are followed this far, if they run straight
+STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
@@ -409,7 +434,7 @@ def _measure_silhouette(work, f, mask, contrast):
     # The skin's edge along both sides, found once over everything the finger's and the
     # hand's windows cover when the knuckle moves by KNUCKLE_SHIFT (each arm has its own
     # core colour): (arclength of the nearest midline point, edge point) per side and arm
-    reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_WIN[0] * wf),
+    reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[0] * wf),
              +1: (b - KNUCKLE_SHIFT * wf + HAND_WIN[0] * wf, b + KNUCKLE_SHIFT * wf + HAND_WIN[1] * wf)}
     sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
@@ -430,18 +455,26 @@ def _measure_silhouette(work, f, mask, contrast):
                 return None
             pm = mid[sel]
             dm = _fit_line(pm)[1]
-            # the outline points whose nearest midline point lies in this window
+            # the outline points whose nearest midline point lies in this window; the
+            # finger's edges are followed further, as far as they run straight
             edges = []
             for k in (0, 1):
                 s_near, pts = skin[sign, k]
-                pts = pts[(s_near >= lo_s) & (s_near <= hi_s)]
-                if len(pts) < 8:
+                if sign < 0:
+                    wide = (s_near >= bk - FIN_EDGE_WIN[1] * wf) & (s_near <= bk - FIN_EDGE_WIN[0] * wf)
+                else:
+                    wide = (s_near >= lo_s) & (s_near <= hi_s)
+                pts, core = pts[wide], (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
+                if core.sum() < 8:
                     return None
-                c_e, d_e, r_e, w_e = _robust_line(pts)
+                if sign < 0:
+                    c_e, d_e, r_e, w_e = _consensus_line(pts, core, max(STRAIGHT_PX, STRAIGHT_W * wf))
+                else:
+                    c_e, d_e, r_e, w_e = _robust_line(pts)
                 if np.dot(d_e, dm) < 0:
                     d_e = -d_e
                 se = _line_dir_se(pts, r_e, w_e, corr_len=0.5 * wf)
-                edges.append((c_e, d_e, se, r_e, w_e))
+                edges.append((c_e, d_e, se, r_e, w_e[core]))
             d_axis = edges[0][1] + edges[1][1]
             d_axis /= np.linalg.norm(d_axis)
             c_axis = (edges[0][0] + edges[1][0]) / 2

@@ -212,3 +212,22 @@ def test_an_object_of_another_colour_behind_the_finger_is_left_out(angle):
     m = measure_angle(img)                     # measured again in the forearm's own colours
     assert m.status == "ok"
     assert abs(m.angle_deg - angle) < 1.5
+
+
+def test_consensus_line_follows_the_straight_stretch_only():
+    from flexcal.vision.angle import _consensus_line, _robust_line
+    rng = np.random.default_rng(4)
+    x = np.arange(0.0, 120.0)
+    y = 0.1 * x + rng.normal(0, 0.15, x.size)          # a straight edge, 5.71 deg
+    y[:25] += 0.004 * (25 - x[:25]) ** 2               # it flares away at one end (the knuckle)
+    y[95:] -= 0.01 * (x[95:] - 95) ** 2                # and turns at the other (the next joint)
+    y[55:63] += 3.0                                    # a tape band stands off in the middle
+    pts = np.column_stack([x, y])
+    core = (x >= 30) & (x <= 90)
+    c, d, r, w = _consensus_line(pts, core, tol=0.6)
+    angle = np.degrees(np.arctan2(d[1], d[0])) % 180
+    assert abs(angle - np.degrees(np.arctan(0.1))) < 0.15
+    assert not w[55:63].any() and w[30:55].all()
+    # a robust fit over the same stretch is pulled by the ends
+    d_all = _robust_line(pts)[1]
+    assert abs(np.degrees(np.arctan2(d_all[1], d_all[0])) % 180 - np.degrees(np.arctan(0.1))) > 0.3
