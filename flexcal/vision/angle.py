@@ -8,7 +8,7 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 3. pair each point of one side with the nearest point of the other: the midpoints are
    the finger's and hand's midline, their distances the local width;
 4. a breakpoint search along the midline finds the knuckle: the point, within the
-   anatomical range of 3 to 7 finger widths from the tip, that best splits the
+   anatomical range of 4.8 to 8 finger widths from the tip, that best splits the
    midline into two straight arms (windows on either side leave out the rounded
    knuckle and stop short of the next joint);
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
@@ -283,7 +283,7 @@ FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towa
 FIN_EDGE_WIN = (0.6, 2.5)  # the finger's edges are followed this far, if they run straight
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
-KNUCKLE_RANGE = (3.8, 8.0)  # knuckle's distance from the tip, in finger widths
+KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-6.5)
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence

@@ -231,3 +231,13 @@ def test_consensus_line_follows_the_straight_stretch_only():
     # a robust fit over the same stretch is pulled by the ends
     d_all = _robust_line(pts)[1]
     assert abs(np.degrees(np.arctan2(d_all[1], d_all[0])) % 180 - np.degrees(np.arctan(0.1))) > 0.3
+
+
+def test_a_bent_second_joint_is_not_taken_for_the_knuckle():
+    # a nearly straight knuckle (4 deg) and a second joint bent by 20 deg: the second
+    # joint lies under 4.8 finger widths from the tip, too close to be the knuckle,
+    # so the photo is refused or measured at the knuckle, never answered with its bend
+    for seed in range(6):
+        img, _ = render_finger(4.0, shape=SHAPE, rng=seed, difficulty="clean", pip_deg=20.0, tape=True)
+        m = measure_angle(img)
+        assert m.status == "failed" or abs(m.angle_deg - 4.0) < 5.0, (seed, m.angle_deg)
