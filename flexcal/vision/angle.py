@@ -20,7 +20,8 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    axes, the vertex their intersection.
 
 When the silhouette forks (a second long free branch: an object or another finger
-joined to the hand), or the part taken for the finger is as wide as the hand, it is
+joined to the hand), or the part taken for the finger is as wide as the hand, or the
+hand is wider than a hand (over 2.3 finger widths), it is
 measured again in only the forearm's own colours (a box or poster of another colour
 joined to the finger drops out); if that does not give an answer, it refuses rather
 than guess. Its confidence drops when an arm bends inside its window.
@@ -288,6 +289,7 @@ SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in width
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
+MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
@@ -506,6 +508,9 @@ def _measure_silhouette(work, f, mask, contrast):
     if hand_ratio < MIN_HAND_TO_FINGER:
         return _foreign(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
                         "may overlap, or something else is joined to the hand: give an ROI around one finger")
+    if hand_ratio > MAX_HAND_TO_FINGER:
+        return _foreign(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
+                        "something is joined to it; give an ROI around the hand and finger")
     fin, hand = arms
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle

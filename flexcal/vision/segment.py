@@ -189,7 +189,7 @@ def _tip_colours(part, labels, border):
     return piece if (piece & border).any() else part
 
 
-def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.12, seed: int = 0) -> Segmentation:
+def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, seed: int = 0) -> Segmentation:
     """Segment the hand and finger in a BGR uint8 image (working resolution)."""
     h, w = bgr.shape[:2]
     small_w = 160

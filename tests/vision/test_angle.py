@@ -241,3 +241,32 @@ def test_a_bent_second_joint_is_not_taken_for_the_knuckle():
         img, _ = render_finger(4.0, shape=SHAPE, rng=seed, difficulty="clean", pip_deg=20.0, tape=True)
         m = measure_angle(img)
         assert m.status == "failed" or abs(m.angle_deg - 4.0) < 5.0, (seed, m.angle_deg)
+
+
+def test_a_cutting_mat_platform_is_background():
+    # k-means splits the mat's face into two clusters of colour, one of them on less than
+    # 12 % of the picture's border: it must still count as background, not join the hand
+    img, truth = render_finger(42.0, shape=(960, 1280), rng=3, difficulty="clean", platform="mat",
+                               background_bgr=(43, 149, 101), skin_tone=0.63)
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - 42.0) < 1.5
+
+
+def test_a_hand_wider_than_a_hand_is_refused():
+    img, truth = render_finger(45.0, shape=SHAPE, rng=7, difficulty="clean", sensor=False)
+    assert measure_angle(img).status == "ok"
+    # a slab in the hand's own colour along its back, from behind the knuckle out of the
+    # picture: the "hand" is now 2.5 times as thick as the finger
+    core = cv2.erode(truth.mask.astype(np.uint8), np.ones((15, 15), np.uint8)) > 0
+    colour = np.median(img[core], axis=0).astype(int).tolist()
+    p = truth.proximal_xy
+    d = (p[-1] - p[1]) / np.linalg.norm(p[-1] - p[1])
+    n = np.array([-d[1], d[0]])
+    n = n if n[1] < 0 else -n                                   # the back of the hand is up
+    half = 11.0 * truth.px_per_mm
+    a, b = p[2], p[2] + d * 2000
+    slab = np.array([a + n * 0.5 * half, b + n * 0.5 * half, b + n * 2.6 * half, a + n * 2.6 * half])
+    cv2.fillPoly(img, [slab.astype(np.int32)], colour)
+    m = measure_angle(img)
+    assert m.status == "failed" and "wider than a hand" in m.reason
