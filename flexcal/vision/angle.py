@@ -309,6 +309,21 @@ def _kink(pm):
     return float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(d1, d2)))))))
 
 
+def _skin_midline(sides, direction):
+    """Midpoints of facing skin-edge points of an arm's two sides, ordered along ``direction``.
+
+    Only pairs that face each other across the arm (their join within ~17 deg of the
+    arm's normal) count, so that where one side's edge is missing (a tape band) no
+    midpoint is made from a point and the far end of the other side's gap.
+    """
+    a, b = sides
+    _, j = cKDTree(b).query(a)
+    v = b[j] - a
+    ok = np.abs(v @ direction) < 0.3 * np.linalg.norm(v, axis=1)
+    mids = (a[ok] + b[j[ok]]) / 2
+    return mids[np.argsort(mids @ direction)]
+
+
 def _free_branches(mask, width_px):
     """How many branches of the silhouette's skeleton end freely (not at the picture's
     edge) and are longer than ``FORK_WIDTHS`` finger widths (``width_px``, working pixels).
@@ -459,7 +474,7 @@ def _measure_silhouette(work, f, mask, contrast):
             dm = _fit_line(pm)[1]
             # the outline points whose nearest midline point lies in this window; the
             # finger's edges are followed further, as far as they run straight
-            edges = []
+            edges, core_pts = [], []
             for k in (0, 1):
                 s_near, pts = skin[sign, k]
                 if sign < 0:
@@ -469,6 +484,7 @@ def _measure_silhouette(work, f, mask, contrast):
                 pts, core = pts[wide], (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
                 if core.sum() < 8:
                     return None
+                core_pts.append(pts[core])
                 if sign < 0:
                     c_e, d_e, r_e, w_e = _consensus_line(pts, core, max(STRAIGHT_PX, STRAIGHT_W * wf))
                 else:
@@ -494,8 +510,16 @@ def _measure_silhouette(work, f, mask, contrast):
             if np.dot(d_axis, pm[-1] - pm[0]) < 0:
                 d_axis = -d_axis
             outlier_share = float(np.mean([1 - np.mean(e[4] > 0.05) for e in edges]))
+            kink = _kink(pm)
+            if sign < 0:
+                # a joint inside the finger's window bends both the silhouette's midline and
+                # the midline between the skin's edges; a tape band's notch or bump shifts
+                # only the first, a short or uneven stretch of skin edge only the second
+                skin_mid = _skin_midline(core_pts, dm)
+                if len(skin_mid) >= 12:
+                    kink = min(kink, _kink(skin_mid))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
-                            length=(hi_s - lo_s), kink=_kink(pm)))
+                            length=(hi_s - lo_s), kink=kink))
         return res
 
     arms = arms_at(b)

@@ -270,3 +270,14 @@ def test_a_hand_wider_than_a_hand_is_refused():
     cv2.fillPoly(img, [slab.astype(np.int32)], colour)
     m = measure_angle(img)
     assert m.status == "failed" and "wider than a hand" in m.reason
+
+
+@pytest.mark.parametrize("seed", [4, 5, 6])
+def test_a_tape_band_in_the_background_colour_is_not_a_joint(seed):
+    # the light tape band on a light wall leaves a notch in the silhouette inside the
+    # finger's window; the midline bends there, the skin's edges do not
+    angle = 30.0 + 5 * seed
+    img, _ = render_finger(angle, shape=SHAPE, rng=seed, difficulty="clean", tape=True, background_bgr=(200, 208, 212))
+    m = measure_angle(img)
+    assert m.status != "failed", m.reason
+    assert abs(m.angle_deg - angle) < 2.5
