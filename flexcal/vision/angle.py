@@ -21,10 +21,11 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 
 When the silhouette forks (a second long free branch: an object or another finger
 joined to the hand), or the part taken for the finger is as wide as the hand, or the
-hand is wider than a hand (over 2.3 finger widths), it is
-measured again in only the forearm's own colours (a box or poster of another colour
-joined to the finger drops out); if that does not give an answer, it refuses rather
-than guess. Its confidence drops when an arm bends inside its window.
+hand is wider than a hand (over 2.3 finger widths), or an unsure measurement's
+silhouette holds a piece at least half a finger width thick in other colours than the
+forearm's, it is measured again in only the forearm's own colours (a box or poster of
+another colour joined to the finger drops out); if that does not give an answer, it
+refuses rather than guess. Its confidence drops when an arm bends inside its window.
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -44,7 +45,8 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import inward_normals, skin_edge
-from flexcal.vision.segment import border_pixels, forearm_colours, segment_finger
+from flexcal.vision.segment import (border_pixels, forearm_clusters, forearm_colours, other_colours_thickness,
+                                    segment_finger)
 
 METHODS = ("auto", "contour", "markers")
 WORK_SIZE = 640            # long side of the working resolution, pixels
@@ -288,6 +290,8 @@ KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths 
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
+RANK = {"failed": 0, "low_confidence": 1, "ok": 2}
+MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
@@ -386,21 +390,23 @@ def _measure_contour(bgr, segmented=None):
     if seg.mask is None:
         return failed(seg.reason, "contour")
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)
-    if m.details.get("foreign"):
-        # the silhouette holds more than hand and finger (a box or poster of another
-        # colour, the shadow under the finger): try again in the forearm's own colours
-        alt = forearm_colours(seg)
-        if alt is not None and not np.array_equal(alt, seg.mask):
-            m2 = _measure_silhouette(work, f, alt, seg.contrast)
-            if m2:
-                return m2
-    return m
-
-
-def _foreign(reason):
-    """A failure that says the silhouette holds something besides the hand and finger."""
-    m = failed(reason, "contour")
-    m.details["foreign"] = True
+    # The silhouette may hold more than hand and finger (a box or poster of another
+    # colour, the shadow under the finger). When the measurement is not sure, it is
+    # measured again in only the forearm's colours if the measurement says so (it forks,
+    # the finger is as wide as the hand, ...) or if a piece of it in other colours is at
+    # least half a finger width thick (thicker than the sensor's strip and connector,
+    # tape or a nail). Not when it is sure: the lit side of a finger can be in a colour
+    # of its own, and the forearm's colours would cut it off.
+    kept = forearm_clusters(seg) if m.status != "ok" else None
+    if kept is not None:
+        wf = m.details.get("finger_width_px")
+        if (not m and (m.details.get("foreign") or wf is None)) or \
+                (wf is not None and other_colours_thickness(seg, kept) >= MIN_PIECE_WIDTHS * wf * f):
+            alt = forearm_colours(seg, kept)
+            if alt is not None and not np.array_equal(alt, seg.mask):
+                m2 = _measure_silhouette(work, f, alt, seg.contrast)
+                if m2 and RANK[m2.status] >= RANK[m.status]:
+                    return m2
     return m
 
 
@@ -425,12 +431,20 @@ def _measure_silhouette(work, f, mask, contrast):
         wf = float(np.median(width[near]))
     if wf < 4:
         return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
+
+    def fail(reason, foreign=False):
+        """A failure that knows the finger's width and whether the silhouette holds
+        something besides the hand and finger (``foreign``)."""
+        m = failed(reason, "contour")
+        m.details.update(finger_width_px=wf / f, foreign=foreign)
+        return m
+
     if _free_branches(mask, wf) > 1:
-        return _foreign("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                        "or finger; give an ROI around the finger or move the object")
+        return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
+                    "or finger; give an ROI around the finger or move the object", foreign=True)
     lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
     if hi <= lo:
-        return _foreign("too little of the hand is in the picture to measure its direction")
+        return fail("too little of the hand is in the picture to measure its direction", foreign=True)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
     # leaves the real bend inside one of the two straight segments.
@@ -438,7 +452,7 @@ def _measure_silhouette(work, f, mask, contrast):
     cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
     scores = _two_line_scores(mid, s, span_lo, span_hi, cands - FIN_WIN[0] * wf, cands + HAND_WIN[0] * wf)
     if not len(scores) or not np.isfinite(scores).any():
-        return failed("could not find two straight arms in the silhouette", "contour")
+        return fail("could not find two straight arms in the silhouette")
     # the middle of the run of places that fit (almost) as well as the best
     good = scores <= scores.min() + (STRAIGHT_TOL * wf) ** 2 * 0.25
     runs = np.split(np.arange(len(cands)), np.nonzero(np.diff(good.astype(int)))[0] + 1)
@@ -524,17 +538,17 @@ def _measure_silhouette(work, f, mask, contrast):
 
     arms = arms_at(b)
     if arms is None:
-        return failed("the arms are too short to fit lines to", "contour")
+        return fail("the arms are too short to fit lines to")
     # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
     # a "finger" as wide as the hand is two fingers together, or not a finger at all.
     in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
     hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
     if hand_ratio < MIN_HAND_TO_FINGER:
-        return _foreign(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
-                        "may overlap, or something else is joined to the hand: give an ROI around one finger")
+        return fail(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
+                    "may overlap, or something else is joined to the hand: give an ROI around one finger", foreign=True)
     if hand_ratio > MAX_HAND_TO_FINGER:
-        return _foreign(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
-                        "something is joined to it; give an ROI around the hand and finger")
+        return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
+                    "something is joined to it; give an ROI around the hand and finger", foreign=True)
     fin, hand = arms
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle

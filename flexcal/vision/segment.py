@@ -12,8 +12,9 @@ connected parts and the most finger-like part that touches the border wins. When
 part crosses the border far more widely than a forearm (a platform joined to the
 hand), only the fingertip's own colours are kept. When the measurement finds more
 than a hand and finger in the silhouette (it forks, or the "finger" is as wide as the
-hand), ``forearm_colours`` gives it the silhouette again in only the colours in which
-the arm leaves the picture.
+hand), or when much of the part is in other colours than the forearm's,
+``forearm_colours`` gives it the silhouette again in only the colours in which the arm
+leaves the picture.
 """
 
 from __future__ import annotations
@@ -281,30 +282,45 @@ def _finish(mask, border):
     return filled
 
 
-def forearm_colours(seg: Segmentation) -> np.ndarray | None:
-    """The silhouette again, in only the colours in which the arm leaves the picture.
+def forearm_clusters(seg: Segmentation) -> np.ndarray | None:
+    """Per colour cluster, whether the arm is in that colour where it leaves the picture.
 
-    When "everything that is not background" joins the hand to something of another
-    colour (a poster, a box, the shadow under the finger), the hand and finger are
-    still the part in the forearm's own colours (skin or glove): keep the colour
-    clusters that make up the part where it crosses the picture's border, bridge what
-    crosses the arm in other colours (strip, tape) and finish the silhouette as usual.
-    None when that leaves nothing that still reaches the border.
+    The forearm is taken as the chosen part within an arm's thickness of where it crosses
+    the picture's border; a cluster on at least 3 % of it counts, with the clusters of
+    nearly the same colour (light and shade across the arm). None without a part.
     """
     if seg.part is None:
         return None
     part, labels = seg.part, seg.labels
     border = border_pixels(part.shape)
     r = _arm_radius(part)
-    # the forearm: the part within an arm's thickness of where it crosses the border
     near = cv2.distanceTransform((~(part.astype(bool) & border)).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * r
     region = near & (part > 0)
     if not region.any():
         return None
-    share = np.bincount(labels[region], minlength=labels.max() + 1) / region.sum()
-    # with the clusters of nearly the same colour (light and shade across the arm)
+    share = np.bincount(labels[region], minlength=len(seg.centres)) / region.sum()
     same = np.linalg.norm(seg.centres[:, None, :] - seg.centres[None, :, :], axis=2) < _SAME_SURFACE
-    n, comp, stats = _pieces_in(part, labels, same[share >= 0.03].any(axis=0), r)
+    return same[share >= 0.03].any(axis=0)
+
+
+def other_colours_thickness(seg: Segmentation, kept) -> float:
+    """Thickness (px) of the thickest piece of the chosen part in colours not ``kept``."""
+    other = ((seg.part > 0) & ~kept[seg.labels]).astype(np.uint8)
+    return 2.0 * float(cv2.distanceTransform(other, cv2.DIST_L2, 3).max()) if other.any() else 0.0
+
+
+def forearm_colours(seg: Segmentation, kept) -> np.ndarray | None:
+    """The silhouette again, in only the colours ``kept`` (``forearm_clusters``).
+
+    When "everything that is not background" joins the hand to something of another
+    colour (a poster, a box, the shadow under the finger), the hand and finger are
+    still the part in the forearm's own colours (skin or glove): keep those, bridge what
+    crosses the arm in other colours (strip, tape) and finish the silhouette as usual.
+    None when that leaves nothing that still reaches the border.
+    """
+    part = seg.part
+    border = border_pixels(part.shape)
+    n, comp, stats = _pieces_in(part, seg.labels, kept, _arm_radius(part))
     touching = np.bincount(comp[border], minlength=n)
     keep = [j for j in range(1, n) if touching[j]]
     if not keep:

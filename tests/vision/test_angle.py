@@ -281,3 +281,22 @@ def test_a_tape_band_in_the_background_colour_is_not_a_joint(seed):
     m = measure_angle(img)
     assert m.status != "failed", m.reason
     assert abs(m.angle_deg - angle) < 2.5
+
+
+@pytest.mark.parametrize("angle, seed", [(30.0, 2), (60.0, 1)])
+def test_a_dark_object_joined_to_the_finger_is_left_out(angle, seed):
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    img, truth = render_finger(angle, shape=SHAPE, rng=seed, difficulty="clean")
+    # a dark blue disc behind the finger's back, touching it
+    d = truth.distal_xy
+    u = (d[-1] - d[0]) / np.linalg.norm(d[-1] - d[0])
+    n = np.array([u[1], -u[0]])
+    n = -n if np.dot(n, truth.proximal_xy[-1] - truth.proximal_xy[0]) > 0 else n
+    c = d[4] + n * 40
+    disc = np.zeros(img.shape[:2], np.uint8)
+    cv2.ellipse(disc, (int(c[0]), int(c[1])), (45, 28), float(np.degrees(np.arctan2(u[1], u[0]))), 0, 360, 1, -1)
+    img[(disc > 0) & ~truth.mask] = (90, 30, 30)
+    work, f, seg = _segment(img)
+    assert not _measure_silhouette(work, f, seg.mask, seg.contrast)   # the joined silhouette is refused
+    m = measure_angle(img)                   # measured again without the disc's colour
+    assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5
