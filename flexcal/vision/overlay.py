@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import textwrap
 
 import cv2
 import numpy as np
@@ -36,9 +37,14 @@ def draw_overlay(image, m: AngleMeasurement) -> np.ndarray:
         cv2.circle(img, _pt(v), int(5 * s), (255, 0, 255), -1, cv2.LINE_AA)
     label = (f"bend {m.angle_deg:.1f} +- {m.angle_unc_deg:.1f} deg  ({m.method}, conf {m.confidence:.2f})"
              if np.isfinite(m.angle_deg) else f"FAILED: {m.reason}")
-    _text(img, label, (int(10 * s), int(30 * s)), 0.7 * s, col)
+    y = int(30 * s)
+    for line in _fit_lines(label, w - int(20 * s), 0.7 * s):
+        _text(img, line, (int(10 * s), y), 0.7 * s, col)
+        y += int(30 * s)
     if m.status == "low_confidence":
-        _text(img, m.reason[:90], (int(10 * s), int(60 * s)), 0.5 * s, col)
+        for line in _fit_lines(m.reason, w - int(20 * s), 0.5 * s):
+            _text(img, line, (int(10 * s), y), 0.5 * s, col)
+            y += int(22 * s)
     return img
 
 
@@ -69,6 +75,12 @@ def contact_sheet(images, labels, statuses=None, *, cols: int = 6, thumb_w: int 
     return sheet
 
 
+def _fit_lines(text, width_px, scale):
+    """``text`` wrapped at spaces into lines no wider than ``width_px`` at this font scale."""
+    char_px = cv2.getTextSize("abcdefghij", cv2.FONT_HERSHEY_SIMPLEX, scale, max(1, int(2 * scale)))[0][0] / 10
+    return textwrap.wrap(text, max(10, int(width_px / char_px))) or [""]
+
+
 def _wrap(text, width):
     return [text[i:i + width] for i in range(0, len(text), width)] or [""]
 
@@ -78,5 +90,12 @@ def _pt(p):
 
 
 def _text(img, text, org, scale, colour):
-    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), max(2, int(4 * scale)), cv2.LINE_AA)
-    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, colour, max(1, int(2 * scale)), cv2.LINE_AA)
+    """Text on a dark translucent band, readable on any wall (a green label on a green wall)."""
+    thick = max(1, int(2 * scale))
+    (tw, th), base = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, scale, thick)
+    pad = max(2, int(4 * scale))
+    x0, y0 = max(0, org[0] - pad), max(0, org[1] - th - pad)
+    x1, y1 = min(img.shape[1], org[0] + tw + pad), min(img.shape[0], org[1] + base + pad)
+    if x1 > x0 and y1 > y0:
+        img[y0:y1, x0:x1] = (img[y0:y1, x0:x1] * 0.35).astype(np.uint8)
+    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, colour, thick, cv2.LINE_AA)
