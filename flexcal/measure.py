@@ -14,6 +14,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pandas as pd
+from PIL import Image
 from tqdm import tqdm
 
 from flexcal.capture.images import read_image
@@ -28,10 +29,11 @@ def _reduction(path: Path) -> int:
     """JPEG decode reduction that still leaves at least the working resolution."""
     if path.suffix.lower() not in (".jpg", ".jpeg"):
         return 1
-    img = cv2.imread(str(path), cv2.IMREAD_REDUCED_GRAYSCALE_8)
-    if img is None:
+    try:
+        with Image.open(path) as im:      # reads the header only
+            long_side = max(im.size)
+    except (OSError, ValueError):         # not a readable JPEG: read_image will say why
         return 1
-    long_side = max(img.shape) * 8
     for r in (4, 2):
         if long_side / r >= WORK_SIZE:
             return r
