@@ -19,13 +19,13 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
-When the silhouette forks (a second long free branch: an object or another finger
-joined to the hand), or the part taken for the finger is as wide as the hand, or the
-hand is wider than a hand (over 2.3 finger widths), or an unsure measurement's
-silhouette holds a piece at least half a finger width thick in other colours than the
-forearm's, it is measured again in only the forearm's own colours (a box or poster of
-another colour joined to the finger drops out); if that does not give an answer, it
-refuses rather than guess. Its confidence drops when an arm bends inside its window.
+When the measurement is not sure and a thick piece of the silhouette is in other
+colours than the forearm's (at least a quarter of a finger width when the silhouette
+forks, the part taken for the finger is as wide as the hand or the hand wider than a
+hand; half otherwise), it is measured again in only the forearm's own colours (a box or
+poster of another colour joined to the finger drops out); if that does not give an
+answer, it refuses rather than guess. Its confidence drops when an arm bends inside
+its window.
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -392,16 +392,18 @@ def _measure_contour(bgr, segmented=None):
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)
     # The silhouette may hold more than hand and finger (a box or poster of another
     # colour, the shadow under the finger). When the measurement is not sure, it is
-    # measured again in only the forearm's colours if the measurement says so (it forks,
-    # the finger is as wide as the hand, ...) or if a piece of it in other colours is at
-    # least half a finger width thick (thicker than the sensor's strip and connector,
-    # tape or a nail). Not when it is sure: the lit side of a finger can be in a colour
-    # of its own, and the forearm's colours would cut it off.
+    # measured again in only the forearm's colours if a piece of the silhouette in other
+    # colours is at least half a finger width thick (thicker than the sensor's strip and
+    # connector, tape or a nail), a quarter when the measurement already found something
+    # besides the hand and finger (it forks, the finger is as wide as the hand, ...);
+    # where no such piece exists (two fingers of one colour) the forearm's colours cannot
+    # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
+    # the forearm's colours would cut it off.
     kept = forearm_clusters(seg) if m.status != "ok" else None
     if kept is not None:
         wf = m.details.get("finger_width_px")
-        if (not m and (m.details.get("foreign") or wf is None)) or \
-                (wf is not None and other_colours_thickness(seg, kept) >= MIN_PIECE_WIDTHS * wf * f):
+        piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
+        if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
             alt = forearm_colours(seg, kept)
             if alt is not None and not np.array_equal(alt, seg.mask):
                 m2 = _measure_silhouette(work, f, alt, seg.contrast)
