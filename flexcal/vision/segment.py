@@ -59,6 +59,18 @@ def colour_features(bgr):
     return np.hstack([chroma, light])
 
 
+def _chromaticity(centres):
+    """The g and r shares of each colour centre without the features' damping, in feature units.
+
+    ``colour_features`` divides by the channel sum plus 30 so that dark pixels do not get
+    noisy shares; that also pulls a colour's shares down as it darkens, so a shaded
+    surface's features drift away from its lit part's. Undone here from the centre's
+    intensity, for comparing a darker colour with a lighter one (is it its shadow?).
+    """
+    total = 3.0 * np.exp(centres[:, 2] / _LIGHT_SCALE)         # channel sum + 30
+    return centres[:, :2] * (total / np.maximum(total - 30.0, 1.0))[:, None]
+
+
 def _classify(bgr, labels_small, centres):
     """The nearest colour centre of every working-resolution pixel.
 
@@ -213,9 +225,10 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     background = group > border_share
     # a cluster with a background cluster's chromaticity but somewhat darker is that
     # background in shadow (a black glove on a grey wall is much darker than any shadow)
+    chroma = _chromaticity(centres)
     for c in np.nonzero(~background)[0]:
         for bg in np.nonzero(group > border_share)[0]:
-            dchroma = np.linalg.norm(centres[c, :2] - centres[bg, :2])
+            dchroma = np.linalg.norm(chroma[c] - chroma[bg])
             ratio = np.exp((centres[c, 2] - centres[bg, 2]) / _LIGHT_SCALE)
             if dchroma < _SHADOW_CHROMA and _SHADOW_RATIO[0] < ratio < _SHADOW_RATIO[1]:
                 background[c] = True

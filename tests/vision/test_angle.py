@@ -300,3 +300,13 @@ def test_a_dark_object_joined_to_the_finger_is_left_out(angle, seed):
     assert not _measure_silhouette(work, f, seg.mask, seg.contrast)   # the joined silhouette is refused
     m = measure_angle(img)                   # measured again without the disc's colour
     assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5
+
+
+@pytest.mark.parametrize("seed", [0, 2, 3])
+def test_the_shaded_side_of_pale_skin_on_a_lilac_wall_is_not_the_walls_shadow(seed):
+    # the shaded underside of very light skin has the lilac wall's damped colour features
+    # (the features' shares fall as a colour darkens); its true chromaticity is the skin's
+    img, _ = render_finger(14.0, shape=SHAPE, rng=seed, difficulty="clean", skin_tone=0.0,
+                           background_bgr=(183, 155, 188), platform="grey", light_deg=-110.0, shadow=0.3)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - 14.0) < 1.5
