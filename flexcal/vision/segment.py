@@ -10,11 +10,10 @@ split a surface); clusters that cover a large share of the border, alone or with
 clusters of nearly the same colour, are background; what is left is split into
 connected parts and the most finger-like part that touches the border wins. When that
 part crosses the border far more widely than a forearm (a platform joined to the
-hand), only the fingertip's own colours are kept. When the measurement finds more
-than a hand and finger in the silhouette (it forks, or the "finger" is as wide as the
-hand), or when much of the part is in other colours than the forearm's,
-``forearm_colours`` gives it the silhouette again in only the colours in which the arm
-leaves the picture.
+hand), only the fingertip's own colours are kept. When a measurement is unsure and a
+thick piece of the part is in other colours than the forearm's (``forearm_clusters``,
+``other_colours_thickness``), ``forearm_colours`` gives it the silhouette again in only
+the colours in which the arm leaves the picture.
 """
 
 from __future__ import annotations
