@@ -409,7 +409,30 @@ def _measure_contour(bgr, segmented=None):
                 m2 = _measure_silhouette(work, f, alt, seg.contrast)
                 if m2 and RANK[m2.status] >= RANK[m.status]:
                     return m2
+    exits = _picture_exits(seg.mask)
+    if not m and exits > 1:
+        # whatever went wrong first, this is what the user can change
+        m.reason = (f"the silhouette leaves the picture in {exits} places: the fingertip, or something joined to "
+                    "the hand or finger, reaches the picture's edge; keep the fingertip in the frame, or give an "
+                    "ROI around the hand and finger")
     return m
+
+
+def _picture_exits(mask) -> int:
+    """In how many places the silhouette's outline leaves the picture (long stretches of
+    outline between them); a hand and finger leave it in one, where the forearm is cut."""
+    h, w = mask.shape
+    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    if not cs:
+        return 0
+    c = max(cs, key=len).reshape(-1, 2)
+    free = ~((c[:, 0] <= 0) | (c[:, 1] <= 0) | (c[:, 0] >= w - 1) | (c[:, 1] >= h - 1))
+    if free.all() or not free.any():
+        return int(not free.all())
+    starts = np.nonzero(free & ~np.roll(free, 1))[0]            # where each free stretch begins
+    ends = np.nonzero(free & ~np.roll(free, -1))[0]              # ... and ends, circularly
+    lengths = (ends[np.searchsorted(ends, starts) % len(ends)] - starts) % len(c) + 1
+    return int(np.sum(lengths >= max(40, 0.1 * lengths.max())))
 
 
 def _measure_silhouette(work, f, mask, contrast):

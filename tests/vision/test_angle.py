@@ -310,3 +310,11 @@ def test_the_shaded_side_of_pale_skin_on_a_lilac_wall_is_not_the_walls_shadow(se
                            background_bgr=(183, 155, 188), platform="grey", light_deg=-110.0, shadow=0.3)
     m = measure_angle(img)
     assert m.status == "ok" and abs(m.angle_deg - 14.0) < 1.5
+
+
+def test_a_fingertip_cut_by_the_frame_is_refused_with_that_reason():
+    img, truth = render_finger(80.0, shape=SHAPE, rng=3, difficulty="clean")
+    ys = np.nonzero(truth.mask.any(axis=1))[0]
+    cut = img[: ys.max() - 15]                  # the frame's lower edge crosses the fingertip
+    m = measure_angle(cut)
+    assert m.status == "failed" and "leaves the picture in 2 places" in m.reason
