@@ -192,27 +192,19 @@ def _resample(chain, step=1.0):
 
 def _outline_chains(mask):
     """The two sides of the silhouette, each from the fingertip to the picture's edge."""
-    h, w = mask.shape
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     if not cs:
         return None, "the silhouette has no outline"
     c = max(cs, key=len).reshape(-1, 2).astype(float)
-    on_border = (c[:, 0] <= 0.5) | (c[:, 1] <= 0.5) | (c[:, 0] >= w - 1.5) | (c[:, 1] >= h - 1.5)
-    if not on_border.any():
+    starts, lengths = _free_stretches(c, mask.shape)
+    if lengths is None:
         return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
+    if not len(lengths):
+        return None, "the silhouette runs all along the picture's edge; is the finger in view?"
     n = len(c)
-    free = ~on_border
-    # the longest run of free (non-border) points is the outline of hand and finger
-    runs, start = [], None
-    for i in range(2 * n):
-        f = free[i % n]
-        if f and start is None:
-            start = i
-        if (not f or i == 2 * n - 1) and start is not None:
-            runs.append((start, i))
-            start = None
-    runs = [(a, b) for a, b in runs if a < n]
-    a, b = max(runs, key=lambda r: r[1] - r[0])
+    # the longest stretch of outline off the picture's edge is the outline of hand and finger
+    a = int(starts[np.argmax(lengths)])
+    b = a + int(lengths.max())
     chain = c[np.arange(a, b) % n]
     if len(chain) < 40:
         return None, "the silhouette is too small to measure"
@@ -421,18 +413,27 @@ def _measure_contour(bgr, segmented=None):
 def _picture_exits(mask) -> int:
     """In how many places the silhouette's outline leaves the picture (long stretches of
     outline between them); a hand and finger leave it in one, where the forearm is cut."""
-    h, w = mask.shape
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     if not cs:
         return 0
-    c = max(cs, key=len).reshape(-1, 2)
-    free = ~((c[:, 0] <= 0) | (c[:, 1] <= 0) | (c[:, 0] >= w - 1) | (c[:, 1] >= h - 1))
-    if free.all() or not free.any():
-        return int(not free.all())
-    starts = np.nonzero(free & ~np.roll(free, 1))[0]            # where each free stretch begins
-    ends = np.nonzero(free & ~np.roll(free, -1))[0]              # ... and ends, circularly
-    lengths = (ends[np.searchsorted(ends, starts) % len(ends)] - starts) % len(c) + 1
+    starts, lengths = _free_stretches(max(cs, key=len).reshape(-1, 2), mask.shape)
+    if lengths is None or not len(lengths):
+        return 0
     return int(np.sum(lengths >= max(40, 0.1 * lengths.max())))
+
+
+def _free_stretches(contour, shape):
+    """Where each stretch of a closed outline off the picture's edge begins (index) and its
+    length in points, circularly; (None, None) when no point of it is on the edge."""
+    h, w = shape
+    free = ~((contour[:, 0] <= 0.5) | (contour[:, 1] <= 0.5) | (contour[:, 0] >= w - 1.5)
+             | (contour[:, 1] >= h - 1.5))
+    if free.all():
+        return None, None
+    starts = np.nonzero(free & ~np.roll(free, 1))[0]
+    ends = np.nonzero(free & ~np.roll(free, -1))[0]
+    lengths = (ends[np.searchsorted(ends, starts) % len(ends)] - starts) % len(contour) + 1
+    return starts, lengths
 
 
 def _measure_silhouette(work, f, mask, contrast):
