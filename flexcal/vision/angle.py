@@ -501,7 +501,7 @@ def _measure_silhouette(work, f, mask, contrast):
             pts, keep = skin_edge(work, side[m], normals[m], wf)
             skin[sign, k] = (s[near][m][keep], pts[keep])
 
-    def arms_at(bk):
+    def arms_at(bk, checks=True):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
         # finger and hand edge points inside each window, both sides
         res = []
@@ -550,8 +550,8 @@ def _measure_silhouette(work, f, mask, contrast):
             if np.dot(d_axis, pm[-1] - pm[0]) < 0:
                 d_axis = -d_axis
             outlier_share = float(np.mean([1 - np.mean(e[4] > 0.05) for e in edges]))
-            kink = _kink(pm)
-            if sign < 0:
+            kink = _kink(pm) if checks else float("nan")   # only the knuckle's own place is checked
+            if sign < 0 and checks:
                 # a joint inside the finger's window bends both the silhouette's midline and
                 # the midline between the skin's edges; a tape band's notch or bump shifts
                 # only the first, a short or uneven stretch of skin edge only the second
@@ -582,7 +582,7 @@ def _measure_silhouette(work, f, mask, contrast):
     # sensitivity to where the knuckle is placed
     alt = []
     for db in (-KNUCKLE_SHIFT * wf, KNUCKLE_SHIFT * wf):
-        r = arms_at(b + db)
+        r = arms_at(b + db, checks=False)
         if r is not None:
             alt.append(_bend(-r[1]["d"], -r[0]["d"]))
     spread = (max(alt) - min(alt)) / 2 if len(alt) == 2 else 2.0
