@@ -401,8 +401,8 @@ def _measure_contour(bgr, segmented=None):
                 m2 = _measure_silhouette(work, f, alt, seg.contrast)
                 if m2 and RANK[m2.status] >= RANK[m.status]:
                     return m2
-    exits = _picture_exits(seg.mask)
-    if not m and exits > 1:
+    exits = _picture_exits(seg.mask) if not m else 1
+    if exits > 1:
         # whatever went wrong first, this is what the user can change
         m.reason = (f"the silhouette leaves the picture in {exits} places: the fingertip, or something joined to "
                     "the hand or finger, reaches the picture's edge; keep the fingertip in the frame, or give an "

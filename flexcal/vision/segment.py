@@ -273,11 +273,9 @@ def _finish(mask, border):
     rad = max(1, int(round(0.3 * r)))
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
-    n3, comp3, stats3, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
-    touching3 = np.bincount(comp3[border], minlength=n3)
-    keep = [j for j in range(1, n3) if touching3[j]]
-    if keep:
-        mask = (comp3 == max(keep, key=lambda j: stats3[j, cv2.CC_STAT_AREA])).astype(np.uint8)
+    piece = _largest_on_border(*cv2.connectedComponentsWithStats(opened, connectivity=8)[:3], border)
+    if piece is not None:
+        mask = piece
     # Close notches narrower than half the arm (tape or a strap in a background colour
     # leaves a waist in the silhouette); the only concave corner this rounds is the
     # crease under the knuckle, which the angle measurement leaves out anyway.
@@ -332,10 +330,15 @@ def forearm_colours(seg: Segmentation, kept) -> np.ndarray | None:
     """
     part = seg.part
     border = border_pixels(part.shape)
-    n, comp, stats = _pieces_in(part, seg.labels, kept, _arm_radius(part))
+    piece = _largest_on_border(*_pieces_in(part, seg.labels, kept, _arm_radius(part)), border)
+    return None if piece is None else _finish(piece, border)
+
+
+def _largest_on_border(n, comp, stats, border):
+    """The largest connected piece (of ``n`` labelled in ``comp``) that touches the
+    picture's border, as a uint8 mask; None when none does."""
     touching = np.bincount(comp[border], minlength=n)
     keep = [j for j in range(1, n) if touching[j]]
     if not keep:
         return None
-    piece = (comp == max(keep, key=lambda j: stats[j, cv2.CC_STAT_AREA])).astype(np.uint8)
-    return _finish(piece, border)
+    return (comp == max(keep, key=lambda j: stats[j, cv2.CC_STAT_AREA])).astype(np.uint8)
