@@ -63,6 +63,7 @@ class RenderParams:
     scale: float = 1.0                # multiplier on the default 5 px/mm at 960 px
     offset_px: tuple = (0.0, 0.0)     # extra translation of the scene
     hand_size: float = 1.0            # anatomy multiplier
+    finger_length: float = 1.0        # multiplier on the phalanges' lengths only (a slender finger > 1)
     pip_deg: float = 0.0              # second-joint (PIP) flexion; DIP follows at 0.7x
     light_deg: float = -120.0         # in-image direction towards the light
     shadow: float = 0.35              # strength of the soft shadow, 0...1
@@ -187,6 +188,7 @@ def _check(angle_deg, shape, p: RenderParams):
         ("blur_sigma", p.blur_sigma >= 0, "a non-negative number of pixels"),
         ("scale", p.scale > 0, "a positive multiplier"),
         ("hand_size", p.hand_size > 0, "a positive multiplier"),
+        ("finger_length", p.finger_length > 0, "a positive multiplier"),
         ("skin_tone", 0 <= p.skin_tone <= 1, "within 0 (light) ... 1 (dark)"),
         ("shadow", 0 <= p.shadow <= 1, "within 0 ... 1"),
         ("vignette", 0 <= p.vignette <= 1, "within 0 ... 1"),
@@ -540,7 +542,7 @@ def render_finger(angle_deg: float, *, shape=(960, 1280), rng=None, difficulty: 
     t = np.array([w / 2, h / 2]) - A @ centre_mm + np.asarray(p.offset_px, float)
     cv_ = _Canvas(shape, A, t)
 
-    finger = _Finger(angle_deg, p.pip_deg, size)
+    finger = _Finger(angle_deg, p.pip_deg, size, length=p.finger_length)
     hand_poly = _hand_polygon(size)
 
     # --- scene layers (float BGR)

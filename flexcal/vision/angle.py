@@ -6,11 +6,14 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 2. walk its outline from the fingertip (the outline point farthest from where the
    hand leaves the picture) back to the picture's edge, along both sides;
 3. pair each point of one side with the nearest point of the other: the midpoints are
-   the finger's and hand's midline, their distances the local width;
+   the finger's and hand's midline, their distances the local width (the finger's
+   width is taken near the tip; where the tip is narrower than the finger behind it,
+   e.g. a nail in the wall's colour left out, from where it reaches full width);
 4. a breakpoint search along the midline finds the knuckle: the point, within the
    anatomical range of 4.8 to 8 finger widths from the tip, that best splits the
    midline into two straight arms (windows on either side leave out the rounded
-   knuckle and stop short of the next joint);
+   knuckle and stop short of the next joint); when that gives no sure answer, up to
+   10 widths (a slender finger), taken only if sure and beyond 8 widths;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``); the finger's edges are
    followed from the middle of its window for as long as they run straight (the
@@ -274,12 +277,15 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
     return np.where((nf >= 8) & (nh >= 8), smallest / k, np.inf)
 
 
+WF_WIN, WF_ITERS = (0.8, 2.5), 4  # the finger's width: median width this many widths from the tip
+NARROW_TIP = (4.0, 1.3)  # the silhouette up to 4 widths from the tip 1.3x wider: the tip is cut (nail)
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
 FIN_EDGE_WIN = (0.6, 2.5)  # the finger's edges are followed this far, if they run straight
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
-KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-6.5)
+KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
+LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 RANK = {"failed": 0, "low_confidence": 1, "ok": 2}
@@ -345,6 +351,18 @@ def _free_branches(mask, width_px):
     return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
+def _finger_width(width, s, start):
+    """The finger's width near its tip: the fixed point of "median width between
+    WF_WIN widths from the tip" (arclengths ``s``), iterated from ``start``."""
+    wf = start
+    for _ in range(WF_ITERS):
+        near = (s > WF_WIN[0] * wf) & (s < WF_WIN[1] * wf)
+        if near.sum() < 5:
+            break
+        wf = float(np.median(width[near]))
+    return wf
+
+
 def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
     c = np.clip(np.dot(d_hand_towards_knuckle, d_finger_from_knuckle), -1, 1)
     return float(np.degrees(np.arccos(c)))
@@ -382,6 +400,13 @@ def _measure_contour(bgr, segmented=None):
     if seg.mask is None:
         return failed(seg.reason, "contour")
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)
+    if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
+        # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
+        # its tip's thickness): the arms found within the range then hold the bend and
+        # are refused. Look further; taken only when sure and found beyond the range.
+        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True)
+        if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]:
+            m = m2
     # The silhouette may hold more than hand and finger (a box or poster of another
     # colour, the shadow under the finger). When the measurement is not sure, it is
     # measured again in only the forearm's colours if a piece of the silhouette in other
@@ -436,7 +461,7 @@ def _free_stretches(contour, shape):
     return starts, lengths
 
 
-def _measure_silhouette(work, f, mask, contrast):
+def _measure_silhouette(work, f, mask, contrast, long_finger=False):
     """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the input)."""
     chains, why = _outline_chains(mask)
     if chains is None:
@@ -448,13 +473,16 @@ def _measure_silhouette(work, f, mask, contrast):
     if valid.sum() < 20:
         return failed("the silhouette is too small to measure", "contour")
     # the finger's width is taken near the tip (the hand is wider and may dominate the
-    # outline): a fixed point of "median width between 0.8 and 2.5 widths from the tip"
-    wf = float(np.percentile(width[valid], 30))
-    for _ in range(4):
-        near = (s > 0.8 * wf) & (s < 2.5 * wf)
-        if near.sum() < 5:
-            break
-        wf = float(np.median(width[near]))
+    # outline)
+    wf = _finger_width(width, s, float(np.percentile(width[valid], 30)))
+    # A fingertip narrower than the finger behind it over more than a width (the nail,
+    # in the wall's colour, left out of the silhouette) makes a fixed point of its own:
+    # then the width is taken from where the silhouette reaches the finger's thickness.
+    beyond = (s > WF_WIN[1] * wf) & (s < NARROW_TIP[0] * wf)
+    if beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf:
+        w2 = float(np.median(width[beyond]))
+        s0 = float(s[np.argmax(width >= 0.8 * w2)])
+        wf = _finger_width(width, s - s0, w2)
     if wf < 4:
         return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
 
@@ -468,13 +496,14 @@ def _measure_silhouette(work, f, mask, contrast):
     if _free_branches(mask, wf) > 1:
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
                     "or finger; give an ROI around the finger or move the object", foreign=True)
-    lo, hi = KNUCKLE_RANGE[0] * wf, min(KNUCKLE_RANGE[1] * wf, total - HAND_WIN[1] * wf * 0.6)
+    k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
+    lo, hi = KNUCKLE_RANGE[0] * wf, min(k_hi * wf, total - HAND_WIN[1] * wf * 0.6)
     if hi <= lo:
         return fail("too little of the hand is in the picture to measure its direction", foreign=True)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
     # leaves the real bend inside one of the two straight segments.
-    span_lo, span_hi = SPAN[0] * wf, min(total, SPAN[1] * wf)
+    span_lo, span_hi = SPAN[0] * wf, min(total, sp_hi * wf)
     cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
     scores = _two_line_scores(mid, s, span_lo, span_hi, cands - FIN_WIN[0] * wf, cands + HAND_WIN[0] * wf)
     if not len(scores) or not np.isfinite(scores).any():

@@ -90,7 +90,7 @@ def test_output_type_and_shape_non_square():
 # A value unlike the clean default for every nuisance parameter.
 CHANGED = dict(
     skin_tone=0.95, glove="nitrile_blue", background="wood", background_bgr=(60, 90, 160), platform="mat",
-    roll_deg=25.0, mirror=True, scale=1.3, offset_px=(40.0, -30.0), hand_size=1.1, pip_deg=30.0,
+    roll_deg=25.0, mirror=True, scale=1.3, offset_px=(40.0, -30.0), hand_size=1.1, finger_length=1.2, pip_deg=30.0,
     light_deg=-30.0, shadow=0.9, exposure=0.7, white_balance=(1.2, 1.0, 0.8), vignette=0.6, noise_sigma=8.0,
     blur_sigma=2.5, jpeg_quality=30, sensor=False, tape=True, cable=True, other_finger=True,
     other_finger_deg=30.0, markers=True, texture_seed=99,
@@ -140,3 +140,16 @@ def test_bad_parameters_raise_value_error_naming_them(kwargs, name):
     angle = kw.pop("angle_deg")
     with pytest.raises(ValueError, match=name):
         render_finger(angle, **kw)
+
+
+def test_finger_length_stretches_the_phalanges_only():
+    # the fingertip moves out along the finger by the extra length of the phalanges
+    # (45 + 26 + 20 mm); the knuckle and the finger's thickness stay where they were
+    kw = dict(shape=(720, 960), rng=2, sensor=False, roll_deg=0.0, scale=0.7, mirror=True)   # finger points left
+    _, a = render_finger(0.0, finger_length=1.0, **kw)
+    _, b = render_finger(0.0, finger_length=1.2, **kw)
+    np.testing.assert_allclose(a.vertex_xy, b.vertex_xy)
+    tip = [np.nonzero(t.mask.any(axis=0))[0].min() for t in (a, b)]
+    assert tip[0] - tip[1] == pytest.approx(0.2 * 91 * a.px_per_mm, abs=3)
+    col = int(round(a.vertex_xy[0] - 30 * a.px_per_mm))    # 30 mm out along the finger
+    assert a.mask[:, col].sum() == b.mask[:, col].sum()
