@@ -42,6 +42,7 @@ class Segmentation:
     part: np.ndarray | None = None    # the chosen connected part, before finishing
     labels: np.ndarray | None = None  # every pixel's colour cluster
     centres: np.ndarray | None = None  # the clusters' colour features
+    background: np.ndarray | None = None  # per cluster, whether it is background
 
 
 def colour_features(bgr):
@@ -262,7 +263,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     bg_centre = centres[np.argmax(share)]
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
-                        centres=centres)
+                        centres=centres, background=background)
 
 
 def _finish(mask, border):
@@ -310,7 +311,9 @@ def forearm_clusters(seg: Segmentation) -> np.ndarray | None:
         return None
     share = np.bincount(labels[region], minlength=len(seg.centres)) / region.sum()
     same = np.linalg.norm(seg.centres[:, None, :] - seg.centres[None, :, :], axis=2) < _SAME_SURFACE
-    return same[share >= 0.03].any(axis=0)
+    # background that the closings took into the part (between the hand and the cable,
+    # say) is not the arm's colour
+    return same[share >= 0.03].any(axis=0) & ~seg.background
 
 
 def other_colours_thickness(seg: Segmentation, kept) -> float:

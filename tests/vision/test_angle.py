@@ -337,3 +337,20 @@ def test_a_slender_finger_is_measured_at_its_knuckle():
             errors.append((i, round(m.angle_deg - truth.angle_deg, 1)))
     assert all(abs(e) < 4.0 for _, e in errors), errors
     assert answered >= 9, errors
+
+
+def test_wall_taken_in_between_the_cable_and_the_hand_is_not_a_forearm_colour():
+    # the sensor's cable runs off the picture beside the hand; the closings fill the
+    # strip of wall between them, so the wall lies inside the part where the arm leaves
+    # the picture. It must not count as the arm's colour, or rebuilding the silhouette
+    # in the forearm's colours keeps the cable and the wall, and the photo is refused.
+    img, truth = render_finger(85.0, shape=SHAPE, rng=4, difficulty="clean", cable=True, background="fabric",
+                               background_bgr=(213, 42, 49), pip_deg=16.8, roll_deg=11.3, light_deg=-21.0,
+                               shadow=0.42, skin_tone=0.59, offset_px=(-13.0, 5.0))
+    from flexcal.vision.angle import _segment
+    from flexcal.vision.segment import forearm_clusters
+    work, _, seg = _segment(img)
+    assert not (forearm_clusters(seg) & seg.background).any()
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - truth.angle_deg) < 1.5
