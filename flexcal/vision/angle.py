@@ -13,7 +13,8 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    anatomical range of 4.8 to 8 finger widths from the tip, that best splits the
    midline into two straight arms (windows on either side leave out the rounded
    knuckle and stop short of the next joint); when that gives no sure answer, up to
-   10 widths (a slender finger), taken only if sure and beyond 8 widths;
+   10 widths (a slender finger), taken only if sure and beyond 8 widths; when the best
+   place is the range's near end, the bend there is the second joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``); the finger's edges are
    followed from the middle of its window for as long as they run straight (the
@@ -284,6 +285,7 @@ FIN_EDGE_WIN = (0.6, 2.5)  # the finger's edges are followed this far, if they r
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
+PINNED_W = 0.3           # a best knuckle place within this many widths of the range's near end is that end's
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
@@ -513,6 +515,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
     runs = np.split(np.arange(len(cands)), np.nonzero(np.diff(good.astype(int)))[0] + 1)
     best_run = next(r for r in runs if good[r[0]] and np.argmin(scores) in r)
     b = float(np.median(cands[best_run]))
+    if best_run[0] == 0 and cands[best_run[-1]] - lo < PINNED_W * wf:
+        # the midline fits two lines best at (or below) the nearest place a knuckle can be
+        # from the tip: that bend is the second joint (more bent than the knuckle), or
+        # the finger is not what was taken for it
+        return fail("the finger bends most where the second joint is: the knuckle cannot be told from it; "
+                    "photograph with the second joint straight")
 
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]

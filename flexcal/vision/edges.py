@@ -11,9 +11,12 @@ For each outline point the colour is sampled along the inward normal and compare
 with the arm's core colour on that side (taken at a depth where nothing attached
 reaches). Where the profile starts with a layer of another colour, the skin's edge is
 where the colour is half-way between the layer's and the skin's (sub-pixel), just
-before the profile settles on the core colour. Points whose profile never settles
-within the search depth (a tape band that crosses the whole finger) are dropped, with
-the outline a quarter of a finger width either side of them (the band's own edge).
+before the profile settles on the core colour; a layer ends in a step (its edge,
+blurred by the optics), while a colour that fades into the skin's over several pixels
+is the skin's own shaded rim (dark skin lit from the other side) and not a layer.
+Points whose profile never settles within the search depth (a tape band that crosses
+the whole finger) are dropped, with the outline a quarter of a finger width either
+side of them (the band's own edge).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ STEP_PX = 0.5            # sampling step along the normal
 CORE_DEPTH = (0.22, 0.4)  # where the core colour is taken, in finger widths from the outline
 SEARCH_DEPTH = 0.3       # how deep an attached layer may be, in finger widths
 RUN_PX = 2.0             # the colour must stay core-like this far to count as the skin's edge
+LAYER_EDGE_PX = 4.0      # a layer's colour turns into the skin's within this distance
 MIN_LAYER_PX = 1.0       # shallower departures are the outline's own blur, not a layer
 BAND_MARGIN = 0.25       # outline dropped on either side of a band across the finger, in widths
 LIGHT_WEIGHT = 0.35      # shading changes brightness across a round finger; colour counts more
@@ -94,7 +98,13 @@ def skin_edge(bgr, pts, normals, width_px):
         j = np.where(back, j - 1, j)
     d0, d1 = dist[rows, j], dist[rows, np.minimum(j + 1, dist.shape[1] - 1)]
     frac = np.clip((d0 - half) / np.maximum(d0 - d1, 1e-6), 0, 1)
-    shift = np.where(first > 0, t[j] + frac * STEP_PX, 0.0)
+    # a layer ends in a step (its edge, blurred by the optics); a colour that fades into
+    # the skin's over several pixels is the skin's own shaded rim, not a layer
+    idx = np.arange(dist.shape[1])[None, :]
+    plateau = (idx < first[:, None]) & (dist >= 0.8 * layer[:, None])
+    p_end = np.where(plateau.any(axis=1), dist.shape[1] - 1 - np.argmax(plateau[:, ::-1], axis=1), 0)
+    sharp = (first - p_end) * STEP_PX <= LAYER_EDGE_PX
+    shift = np.where((first > 0) & sharp, t[j] + frac * STEP_PX, 0.0)
     shift[shift < MIN_LAYER_PX] = 0.0
     # the outline next to a band that crosses the finger runs along the band's own
     # edge (and the rounded notch the silhouette's closing left there): drop it too
