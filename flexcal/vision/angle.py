@@ -125,16 +125,31 @@ def as_bgr8(image) -> np.ndarray:
 
 # --------------------------------------------------------------------------- geometry helpers
 
+def _principal_direction(sxx, syy, sxy):
+    """Unit direction of the larger principal axis of a 2x2 scatter matrix."""
+    theta = 0.5 * np.arctan2(2.0 * sxy, sxx - syy)
+    return np.array([np.cos(theta), np.sin(theta)])
+
+
 def _fit_line(pts, weights=None):
     """Total least squares line: (centroid, unit direction, residuals)."""
     if weights is None:
         weights = np.ones(len(pts))
-    c = (pts * weights[:, None]).sum(0) / weights.sum()
-    q = (pts - c) * np.sqrt(weights)[:, None]
-    _, _, vt = np.linalg.svd(q, full_matrices=False)
-    d = vt[0]
-    n = np.array([-d[1], d[0]])
-    return c, d, (pts - c) @ n
+    c = weights @ pts / weights.sum()
+    q = pts - c
+    wq = q * weights[:, None]
+    d = _principal_direction(wq[:, 0] @ q[:, 0], wq[:, 1] @ q[:, 1], wq[:, 0] @ q[:, 1])
+    return c, d, q @ np.array([-d[1], d[0]])
+
+
+def _median(x):
+    """np.median of a 1-d array, without its overhead (called thousands of times a photo)."""
+    n = len(x)
+    k = n // 2
+    if n % 2:
+        return np.partition(x, k)[k]
+    p = np.partition(x, (k - 1, k))
+    return 0.5 * (p[k - 1] + p[k])
 
 
 def _robust_line(pts, iters=4):
@@ -142,7 +157,7 @@ def _robust_line(pts, iters=4):
     w = np.ones(len(pts))
     c, d, r = _fit_line(pts, w)
     for _ in range(iters):
-        s = 1.4826 * np.median(np.abs(r)) + 1e-3
+        s = 1.4826 * _median(np.abs(r)) + 1e-3
         u = r / (4.685 * s)
         w = np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
         if w.sum() < 5:
@@ -177,8 +192,7 @@ def _line_dir_se(pts, resid, weights, corr_len):
     if m.sum() < 4:
         return np.inf
     t = pts[m] - pts[m].mean(0)
-    _, _, vt = np.linalg.svd(t, full_matrices=False)
-    along = t @ vt[0]
+    along = t @ _principal_direction(t[:, 0] @ t[:, 0], t[:, 1] @ t[:, 1], t[:, 0] @ t[:, 1])
     s = np.sqrt(np.sum(weights[m] * resid[m] ** 2) / max(1.0, weights[m].sum() - 2))
     spacing = (along.max() - along.min()) / max(1, m.sum() - 1)
     inflate = np.sqrt(max(1.0, corr_len / max(spacing, 1e-6)))
@@ -266,8 +280,8 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
         sxx = w @ (p[:, 0] ** 2) / n - c[:, 0] ** 2
         syy = w @ (p[:, 1] ** 2) / n - c[:, 1] ** 2
         sxy = w @ (p[:, 0] * p[:, 1]) / n - c[:, 0] * c[:, 1]
-        theta = 0.5 * np.arctan2(2 * sxy, sxx - syy)     # the principal axis
-        nx, ny = -np.sin(theta), np.cos(theta)
+        dx, dy = _principal_direction(sxx, syy, sxy)
+        nx, ny = -dy, dx
         r = (p[None, :, 0] - c[:, None, 0]) * nx[:, None] + (p[None, :, 1] - c[:, None, 1]) * ny[:, None]
         return r * r
 
