@@ -431,17 +431,22 @@ def _measure_contour(bgr, segmented=None):
     # besides the hand and finger (it forks, the finger is as wide as the hand, ...);
     # where no such piece exists (two fingers of one colour) the forearm's colours cannot
     # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
-    # the forearm's colours would cut it off.
-    kept = forearm_clusters(seg) if m.status != "ok" else None
-    if kept is not None:
+    # the forearm's colours would cut it off. When the part leaves the picture in more
+    # than one place, each is tried as the forearm and the best measurement kept.
+    if m.status != "ok":
         wf = m.details.get("finger_width_px")
         piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
-        if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
-            alt = forearm_colours(seg, kept)
-            if alt is not None and not np.array_equal(alt, seg.mask):
-                m2 = _measure_silhouette(work, f, alt, seg.contrast)
-                if m2 and RANK[m2.status] >= RANK[m.status]:
-                    return m2
+        best = None
+        for kept in forearm_clusters(seg):
+            if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
+                alt = forearm_colours(seg, kept)
+                if alt is not None and not np.array_equal(alt, seg.mask):
+                    m2 = _measure_silhouette(work, f, alt, seg.contrast)
+                    if m2 and RANK[m2.status] >= RANK[m.status] and (
+                            best is None or (RANK[m2.status], m2.confidence) > (RANK[best.status], best.confidence)):
+                        best = m2
+        if best is not None:
+            return best
     exits = _picture_exits(seg.mask) if not m else 1
     if exits > 1:
         # whatever went wrong first, this is what the user can change

@@ -13,7 +13,8 @@ part crosses the border far more widely than a forearm (a platform joined to the
 hand), only the fingertip's own colours are kept. When a measurement is unsure and a
 thick piece of the part is in other colours than the forearm's (``forearm_clusters``,
 ``other_colours_thickness``), ``forearm_colours`` gives it the silhouette again in only
-the colours in which the arm leaves the picture.
+the colours in which the arm leaves the picture (each place where the part leaves the
+picture is offered as the forearm's when something joined to it reaches the border too).
 """
 
 from __future__ import annotations
@@ -293,27 +294,40 @@ def _finish(mask, border):
     return filled
 
 
-def forearm_clusters(seg: Segmentation) -> np.ndarray | None:
-    """Per colour cluster, whether the arm is in that colour where it leaves the picture.
+def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
+    """Per colour cluster, whether the arm is in that colour where it leaves the picture;
+    one answer for each place where the chosen part crosses the picture's border, the
+    widest first, without repeats (empty without a part).
 
     The forearm is taken as the chosen part within an arm's thickness of where it crosses
-    the picture's border; a cluster on at least 3 % of it counts, with the clusters of
-    nearly the same colour (light and shade across the arm). None without a part.
+    the border; a cluster on at least 3 % of it counts, with the clusters of nearly the
+    same colour (light and shade across the arm). When something joined to the finger
+    (a poster, a box) also reaches the border, which crossing is the forearm's is not
+    known: each is offered, and the caller keeps the one that measures best.
     """
     if seg.part is None:
-        return None
+        return []
     part, labels = seg.part, seg.labels
     border = border_pixels(part.shape)
     r = _arm_radius(part)
-    near = cv2.distanceTransform((~(part.astype(bool) & border)).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * r
-    region = near & (part > 0)
-    if not region.any():
-        return None
-    share = np.bincount(labels[region], minlength=len(seg.centres)) / region.sum()
+    # the border crossings: runs of the part along the border, gaps of a few pixels joined
+    contact = (part.astype(bool) & border).astype(np.uint8)
+    n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
     same = np.linalg.norm(seg.centres[:, None, :] - seg.centres[None, :, :], axis=2) < _SAME_SURFACE
-    # background that the closings took into the part (between the hand and the cable,
-    # say) is not the arm's colour
-    return same[share >= 0.03].any(axis=0) & ~seg.background
+    out = []
+    for j in sorted(range(1, n), key=lambda j: -stats[j, cv2.CC_STAT_AREA]):
+        crossing = (runs == j) & (contact > 0)
+        near = cv2.distanceTransform((~crossing).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * r
+        region = near & (part > 0)
+        if not region.any():
+            continue
+        share = np.bincount(labels[region], minlength=len(seg.centres)) / region.sum()
+        # background that the closings took into the part (between the hand and the
+        # cable, say) is not the arm's colour
+        kept = same[share >= 0.03].any(axis=0) & ~seg.background
+        if kept.any() and not any(np.array_equal(kept, k) for k in out):
+            out.append(kept)
+    return out
 
 
 def other_colours_thickness(seg: Segmentation, kept) -> float:

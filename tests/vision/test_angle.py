@@ -350,7 +350,7 @@ def test_wall_taken_in_between_the_cable_and_the_hand_is_not_a_forearm_colour():
     from flexcal.vision.angle import _segment
     from flexcal.vision.segment import forearm_clusters
     work, _, seg = _segment(img)
-    assert not (forearm_clusters(seg) & seg.background).any()
+    assert not any((kept & seg.background).any() for kept in forearm_clusters(seg))
     m = measure_angle(img)
     assert m.status == "ok", m.reason
     assert abs(m.angle_deg - truth.angle_deg) < 1.5
@@ -376,3 +376,19 @@ def test_a_knuckle_found_at_the_nearest_place_it_can_be_is_a_bent_second_joint()
                                glove="latex", blur_sigma=0.7)
         m = measure_angle(img)
         assert m.status == "failed" or abs(m.angle_deg - 3.0) < 5.0, (seed, m.angle_deg)
+
+
+@pytest.mark.parametrize("angle, seed", [(60.0, 3), (45.0, 5)])
+def test_a_board_joined_to_the_fingertip_that_reaches_the_frame_is_left_out(angle, seed):
+    # a teal board behind the fingertip runs down to the picture's bottom edge: the
+    # silhouette leaves the picture twice, and which crossing is the forearm's is not
+    # known; the silhouette is rebuilt from each crossing's colours and the best kept
+    img, truth = render_finger(angle, shape=SHAPE, rng=seed, difficulty="clean")
+    d = truth.distal_xy
+    p = d[-1] + (d[-1] - d[0]) / np.linalg.norm(d[-1] - d[0]) * 30
+    box = np.zeros(img.shape[:2], np.uint8)
+    cv2.rectangle(box, (int(p[0]) - 60, int(p[1]) - 20), (int(p[0]) + 60, SHAPE[0] - 1), 1, -1)
+    img[(box > 0) & ~truth.mask] = (150, 140, 30)
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - angle) < 1.5
