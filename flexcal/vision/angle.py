@@ -816,7 +816,7 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
         bgr, ox, oy = bgr[y:y + h, x:x + w], x, y
     if min(bgr.shape[:2]) < 32:
         return failed(f"image is too small ({bgr.shape[1]}x{bgr.shape[0]} px); need at least 32 px each way", method)
-    if float(bgr.std()) < 1.0:
+    if float(cv2.meanStdDev(bgr)[1].max()) < 1.0:      # every channel flat
         return failed("the picture is blank (one flat colour: all black, all white or a lens cap)", method)
     if method == "markers":
         return _shift(_measure_markers(bgr), ox, oy)

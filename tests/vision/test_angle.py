@@ -102,6 +102,7 @@ def test_marker_method():
     (np.zeros((1, 1, 3), np.uint8), "too small"),
     (np.zeros((480, 640, 3), np.uint8), "blank"),
     (np.full((480, 640, 3), 255, np.uint8), "blank"),
+    (np.full((480, 640, 3), (30, 40, 200), np.uint8), "blank"),    # one flat colour that is not grey
     (np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8), ""),
     (np.zeros((10, 10, 7), np.uint8), "shape"),
 ])
