@@ -69,20 +69,21 @@ def contact_sheet(images, labels, statuses=None, *, cols: int = 6, thumb_w: int 
         y, x = 8 + r * cell_h, 8 + c * (thumb_w + 8)
         sheet[y:y + t.shape[0], x:x + thumb_w] = t
         cv2.rectangle(sheet, (x - 3, y - 3), (x + thumb_w + 2, y + t.shape[0] + 2), _COLOURS.get(st, (128,) * 3), 3)
-        for k, line in enumerate(_wrap(lab, 42)[:2]):
+        for k, line in enumerate(_fit_lines(lab, thumb_w, 0.45, max_lines=2)):
             cv2.putText(sheet, line, (x, y + t.shape[0] + 18 + 16 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.45,
                         (20, 20, 20), 1, cv2.LINE_AA)
     return sheet
 
 
-def _fit_lines(text, width_px, scale):
-    """``text`` wrapped at spaces into lines no wider than ``width_px`` at this font scale."""
+def _fit_lines(text, width_px, scale, max_lines=None):
+    """``text`` wrapped at spaces into lines no wider than ``width_px`` at this font scale;
+    with ``max_lines``, what does not fit is cut at a word and marked with "..."."""
     char_px = cv2.getTextSize("abcdefghij", cv2.FONT_HERSHEY_SIMPLEX, scale, max(1, int(2 * scale)))[0][0] / 10
-    return textwrap.wrap(text, max(10, int(width_px / char_px))) or [""]
-
-
-def _wrap(text, width):
-    return [text[i:i + width] for i in range(0, len(text), width)] or [""]
+    width = max(10, int(width_px / char_px))
+    lines = textwrap.wrap(text, width) or [""]
+    if max_lines is not None and len(lines) > max_lines:
+        lines = lines[:max_lines - 1] + [textwrap.shorten(" ".join(lines[max_lines - 1:]), width, placeholder="...")]
+    return lines
 
 
 def _pt(p):
