@@ -64,6 +64,7 @@ class RenderParams:
     offset_px: tuple = (0.0, 0.0)     # extra translation of the scene
     hand_size: float = 1.0            # anatomy multiplier
     finger_length: float = 1.0        # multiplier on the phalanges' lengths only (a slender finger > 1)
+    palm_mm: float = 0.0              # extra thickness of the palm below the knuckle (real hands: ~5-10)
     pip_deg: float = 0.0              # second-joint (PIP) flexion; DIP follows at 0.7x
     light_deg: float = -120.0         # in-image direction towards the light
     shadow: float = 0.35              # strength of the soft shadow, 0...1
@@ -189,6 +190,7 @@ def _check(angle_deg, shape, p: RenderParams):
         ("scale", p.scale > 0, "a positive multiplier"),
         ("hand_size", p.hand_size > 0, "a positive multiplier"),
         ("finger_length", p.finger_length > 0, "a positive multiplier"),
+        ("palm_mm", 0 <= p.palm_mm <= 40, "within 0 ... 40 mm"),
         ("skin_tone", 0 <= p.skin_tone <= 1, "within 0 (light) ... 1 (dark)"),
         ("shadow", 0 <= p.shadow <= 1, "within 0 ... 1"),
         ("vignette", 0 <= p.vignette <= 1, "within 0 ... 1"),
@@ -275,13 +277,19 @@ class _Finger:
         return self.dirs[0] if s <= self.L[0] else self.dirs[1] if s <= self.L[0] + self.L[1] else self.dirs[2]
 
 
-def _hand_polygon(size):
-    """The hand and forearm, palm flat on the platform (y = +R), back rising to the wrist."""
+def _hand_polygon(size, palm=0.0):
+    """The hand and forearm, palm flat on the platform (y = +R + palm), back rising to the
+    wrist; a thicker palm (``palm`` mm) rounds off towards the finger's base."""
     R = _KNUCKLE_R * size
     xs = np.array([0, -_HAND_FLAT_L, -130, -220, -600]) * size
     top = np.array([-R, -R, -(R + 2.5 * size), -(R + 4.0 * size), -(R + 5.0 * size)])
     upper = np.column_stack([xs, top])
-    lower = np.array([[xs[-1], R], [0, R]])
+    if palm > 0:
+        a = np.linspace(0, 90, 10)
+        pad = np.column_stack([-2 * palm + 2 * palm * np.sin(np.deg2rad(a)), R + palm * np.cos(np.deg2rad(a))])
+        lower = np.vstack([[xs[-1], R + palm], pad])
+    else:
+        lower = np.array([[xs[-1], R], [0, R]])
     return np.vstack([upper, lower])
 
 
@@ -452,7 +460,7 @@ def _background(shape, p: RenderParams, rng):
 
 
 def _platform(canvas, shape, p: RenderParams, size, rng):
-    R = _KNUCKLE_R * size
+    R = _KNUCKLE_R * size + p.palm_mm * size    # the platform's top: where the palm rests
     edge = -(R + 3.5) * size
     far = 2000.0
     front = [np.array([[-far, R], [edge, R], [edge, far], [-far, far]])]
@@ -543,7 +551,7 @@ def render_finger(angle_deg: float, *, shape=(960, 1280), rng=None, difficulty: 
     cv_ = _Canvas(shape, A, t)
 
     finger = _Finger(angle_deg, p.pip_deg, size, length=p.finger_length)
-    hand_poly = _hand_polygon(size)
+    hand_poly = _hand_polygon(size, p.palm_mm * size)
 
     # --- scene layers (float BGR)
     img = _background(shape, p, trng)

@@ -90,7 +90,7 @@ def test_output_type_and_shape_non_square():
 # A value unlike the clean default for every nuisance parameter.
 CHANGED = dict(
     skin_tone=0.95, glove="nitrile_blue", background="wood", background_bgr=(60, 90, 160), platform="mat",
-    roll_deg=25.0, mirror=True, scale=1.3, offset_px=(40.0, -30.0), hand_size=1.1, finger_length=1.2, pip_deg=30.0,
+    roll_deg=25.0, mirror=True, scale=1.3, offset_px=(40.0, -30.0), hand_size=1.1, finger_length=1.2, palm_mm=8.0, pip_deg=30.0,
     light_deg=-30.0, shadow=0.9, exposure=0.7, white_balance=(1.2, 1.0, 0.8), vignette=0.6, noise_sigma=8.0,
     blur_sigma=2.5, jpeg_quality=30, sensor=False, tape=True, cable=True, other_finger=True,
     other_finger_deg=30.0, markers=True, texture_seed=99,
@@ -153,3 +153,16 @@ def test_finger_length_stretches_the_phalanges_only():
     assert tip[0] - tip[1] == pytest.approx(0.2 * 91 * a.px_per_mm, abs=3)
     col = int(round(a.vertex_xy[0] - 30 * a.px_per_mm))    # 30 mm out along the finger
     assert a.mask[:, col].sum() == b.mask[:, col].sum()
+
+
+def test_palm_mm_thickens_the_hand_below_the_knuckle_only():
+    # the palm rests lower by palm_mm (and the platform with it); the back of the hand,
+    # the knuckle and the finger stay where they were
+    kw = dict(shape=(720, 960), rng=2, sensor=False, roll_deg=0.0, scale=0.7, mirror=True, angle_deg=30.0)
+    _, a = render_finger(palm_mm=0.0, **kw)
+    _, b = render_finger(palm_mm=8.0, **kw)
+    np.testing.assert_allclose(a.vertex_xy, b.vertex_xy)
+    col = int(round(a.vertex_xy[0] + 40 * a.px_per_mm))    # 40 mm behind the knuckle, over the palm
+    rows = [np.nonzero(t.mask[:, col])[0] for t in (a, b)]
+    assert rows[0].min() == rows[1].min()                    # the back of the hand
+    assert rows[1].max() - rows[0].max() == pytest.approx(8 * a.px_per_mm, abs=2)
