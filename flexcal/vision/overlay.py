@@ -78,12 +78,17 @@ def contact_sheet(images, labels, statuses=None, *, cols: int = 6, thumb_w: int 
 def _fit_lines(text, width_px, scale, max_lines=None):
     """``text`` wrapped at spaces into lines no wider than ``width_px`` at this font scale;
     with ``max_lines``, what does not fit is cut at a word and marked with "..."."""
-    char_px = cv2.getTextSize("abcdefghij", cv2.FONT_HERSHEY_SIMPLEX, scale, max(1, int(2 * scale)))[0][0] / 10
+    thick = max(1, int(2 * scale))
+    char_px = cv2.getTextSize("abcdefghij", cv2.FONT_HERSHEY_SIMPLEX, scale, thick)[0][0] / 10
     width = max(10, int(width_px / char_px))
-    lines = textwrap.wrap(text, width) or [""]
-    if max_lines is not None and len(lines) > max_lines:
-        lines = lines[:max_lines - 1] + [textwrap.shorten(" ".join(lines[max_lines - 1:]), width, placeholder="...")]
-    return lines
+    while True:   # characters differ in width: narrow the budget until every line fits
+        lines = textwrap.wrap(text, width) or [""]
+        if max_lines is not None and len(lines) > max_lines:
+            lines = lines[:max_lines - 1] + [textwrap.shorten(" ".join(lines[max_lines - 1:]), width, placeholder="...")]
+        widest = max(cv2.getTextSize(line, cv2.FONT_HERSHEY_SIMPLEX, scale, thick)[0][0] for line in lines)
+        if widest <= width_px or width <= 10:
+            return lines
+        width -= 1
 
 
 def _pt(p):
