@@ -283,15 +283,22 @@ def _finish(mask, border):
     # crease under the knuckle, which the angle measurement leaves out anyway.
     d = max(3, int(round(r)) | 1)
     mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
-    # fill holes (nail, creases, tape the colour of the background) inside the silhouette
-    filled = mask.copy()
-    inv = (1 - mask).astype(np.uint8)
-    # holes are background regions that do not reach the border
-    n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(inv, connectivity=4)
-    is_hole = (np.bincount(comp2[border], minlength=n2) == 0) & (stats2[:, cv2.CC_STAT_AREA] < 0.2 * mask.sum())
-    is_hole[0] = False   # label 0 is the silhouette itself
-    filled[is_hole[comp2]] = 1
-    return filled
+    # fill holes (nail, creases, tape the colour of the background) inside the silhouette:
+    # background regions (4-connected) that do not reach the border, each under a fifth of
+    # the silhouette's area. Flood the background from a frame around the picture; what
+    # stays unflooded is a hole.
+    h, w = mask.shape
+    outside = np.zeros((h + 2, w + 2), np.uint8)
+    outside[1:-1, 1:-1] = mask
+    cv2.floodFill(outside, None, (0, 0), 2, flags=4)
+    holes = (outside[1:-1, 1:-1] == 0).astype(np.uint8)
+    area = int(mask.sum())
+    if holes.sum() >= 0.2 * area:     # some hole may be too big to fill: look at each
+        n2, comp2, stats2, _ = cv2.connectedComponentsWithStats(holes, connectivity=4)
+        small = stats2[:, cv2.CC_STAT_AREA] < 0.2 * area
+        small[0] = False
+        holes = small[comp2].astype(np.uint8)
+    return mask | holes
 
 
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:

@@ -424,3 +424,15 @@ def test_a_hand_twice_as_thick_as_the_fingertip_is_measured():
         assert m.details["hand_to_finger_width"] > 1.8
         errors.append(abs(m.angle_deg - truth.angle_deg))
     assert max(errors) < 2.5 and np.median(errors) < 1.0, errors
+
+
+def test_finishing_fills_small_holes_and_keeps_big_ones():
+    from flexcal.vision.segment import _finish, border_pixels
+    mask = np.zeros((200, 300), np.uint8)
+    mask[20:180, 0:280] = 1                 # an arm leaving the picture on the left
+    mask[80:90, 220:230] = 0                # a nail-sized hole: filled
+    mask[60:140, 30:140] = 0                # a hole of a quarter of the silhouette: kept
+    out = _finish(mask, border_pixels(mask.shape))
+    assert out[85, 225] == 1
+    assert out[100, 85] == 0 and out[100, 40] == 0
+    assert out[30, 200] == 1 and out[100, 290] == 0 and out[10, 100] == 0
