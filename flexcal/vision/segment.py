@@ -20,6 +20,7 @@ picture is offered as the forearm's when something joined to it reaches the bord
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import cv2
 import numpy as np
@@ -44,6 +45,11 @@ class Segmentation:
     labels: np.ndarray | None = None  # every pixel's colour cluster
     centres: np.ndarray | None = None  # the clusters' colour features
     background: np.ndarray | None = None  # per cluster, whether it is background
+
+    @cached_property
+    def part_radius(self) -> float:
+        """Half width of the widest part of the chosen part (``_arm_radius``), computed once."""
+        return _arm_radius(self.part)
 
 
 def colour_features(bgr):
@@ -316,7 +322,7 @@ def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
         return []
     part, labels = seg.part, seg.labels
     border = border_pixels(part.shape)
-    r = _arm_radius(part)
+    r = seg.part_radius
     # the border crossings: runs of the part along the border, gaps of a few pixels joined
     contact = (part.astype(bool) & border).astype(np.uint8)
     n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
@@ -354,7 +360,7 @@ def forearm_colours(seg: Segmentation, kept) -> np.ndarray | None:
     """
     part = seg.part
     border = border_pixels(part.shape)
-    piece = _largest_on_border(*_pieces_in(part, seg.labels, kept, _arm_radius(part)), border)
+    piece = _largest_on_border(*_pieces_in(part, seg.labels, kept, seg.part_radius), border)
     return None if piece is None else _finish(piece, border)
 
 
