@@ -18,14 +18,14 @@ import pytest
 FIRMWARE = Path(__file__).resolve().parents[1] / "firmware"
 ELF = FIRMWARE / "flexcal_glove" / "build-uno" / "flexcal_glove_.elf"
 SIM = FIRMWARE / "build" / "flexcal_sim"
-PACKAGES = "gcc-avr avr-libc arduino-core-avr arduino-mk simavr libsimavr-dev libsimavrparts1 libelf-dev pkg-config"
+PACKAGES = "gcc-avr avr-libc arduino-core-avr arduino-mk simavr libsimavr-dev libelf-dev pkg-config"
 
 
 def missing_tools() -> list[str]:
     missing = [t for t in ("avr-gcc", "make", "cc", "pkg-config") if shutil.which(t) is None]
     if not Path("/usr/share/arduino/Arduino.mk").is_file():
         missing.append("arduino-mk")
-    if shutil.which("pkg-config") and subprocess.run(["pkg-config", "--exists", "simavr", "simavrparts"]).returncode:
+    if shutil.which("pkg-config") and subprocess.run(["pkg-config", "--exists", "simavr"]).returncode:
         missing.append("libsimavr-dev")
     return missing
 
@@ -49,11 +49,16 @@ def build() -> None:
 
 
 @contextmanager
-def simulated_glove(script: str, tmp_path: Path, *, r_fixed_ohm: float = 47000.0, duration_s: float | None = None):
-    """Run the firmware with a resistance script ("t_s resistance_ohm" lines); yields the pty path."""
+def simulated_glove(script: str, tmp_path: Path, *, r_fixed_ohm: float = 47000.0, duration_s: float | None = None,
+                    elf: Path = ELF):
+    """Run the firmware with a resistance script ("t_s resistance_ohm" lines); yields the pty path.
+
+    The firmware starts when the port is opened (as an Uno resets then), so script times
+    count from the open.
+    """
     path = tmp_path / "script.txt"
     path.write_text(script)
-    cmd = [str(SIM), str(ELF), str(path), "--r-fixed-ohm", str(r_fixed_ohm)]
+    cmd = [str(SIM), str(elf), str(path), "--r-fixed-ohm", str(r_fixed_ohm)]
     if duration_s is not None:
         cmd += ["--duration", str(duration_s)]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -70,7 +75,7 @@ def simulated_glove(script: str, tmp_path: Path, *, r_fixed_ohm: float = 47000.0
             raise AssertionError(f"the simulator did not start: {proc.stderr.read()}")
         yield pty
     finally:
-        proc.kill()   # simavr's uart_pty thread ignores SIGINT in the background; killing is the safe way out
+        proc.kill()
         proc.wait(timeout=10)
         proc.stdout.close()
         proc.stderr.close()

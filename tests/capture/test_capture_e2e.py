@@ -2,7 +2,6 @@
 camera -> `flexcal capture --auto` -> `calibrate` on the trial it wrote."""
 
 import json
-import subprocess
 
 import cv2
 import numpy as np
@@ -50,18 +49,11 @@ def test_capture_then_calibrate(device, tmp_path):
     args = ["--camera", str(video), "--out", str(trial), "--steps", "0:80:20", "--hold-s", "1.0",
             "--step-timeout-s", "30"]
     if device == "simavr":
-        from sim_glove import ELF, SIM, build
+        from sim_glove import build, simulated_glove
 
         build()
-        (tmp_path / "script.txt").write_text("".join(f"{t} {r}\n" for t, r in script))
-        sim = subprocess.Popen([str(SIM), str(ELF), str(tmp_path / "script.txt")], stdout=subprocess.PIPE, text=True)
-        try:
-            pty = next(line.split()[1] for line in sim.stdout if line.startswith("pty "))
+        with simulated_glove("".join(f"{t} {r}\n" for t, r in script), tmp_path) as pty:
             assert main(["capture", "--port", pty, *args]) == 0
-        finally:
-            sim.kill()
-            sim.wait(timeout=10)
-            sim.stdout.close()
     else:
         glove = FakeGlove(script, noise_ohm=0.0)
         glove.start(delay_s=0.3)

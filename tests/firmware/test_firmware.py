@@ -101,6 +101,20 @@ def test_simulated_glove_streams_the_protocol(built, tmp_path):
 
 
 @pytest.mark.slow
+def test_the_simulated_uno_starts_when_the_port_is_opened(built, tmp_path):
+    """An Uno resets when its port is opened; the simulator waits for the open, so a late host still gets the banner."""
+    with simulated_glove("0 45000\n", tmp_path) as pty:
+        time.sleep(0.5)   # a slow host; the old simulator had streamed (and pyserial's open flushed) 25 lines by now
+        with serial.Serial(pty, 115200, timeout=0.05) as port:
+            lines = _read_lines(port, 0.5)
+    texts = [t.strip() for _, t in lines]
+    assert texts[0].startswith("# flexcal-firmware "), texts[:3]
+    assert texts[3] == HEADER
+    t_ms = [parse_line(t).t_ms for t in texts[4:]]
+    assert t_ms[0] < 50   # the firmware's clock starts at the open
+
+
+@pytest.mark.slow
 def test_simulated_glove_answers_commands(built, tmp_path):
     with simulated_glove("0 45000\n", tmp_path) as pty, serial.Serial(pty, 115200, timeout=0.05) as port:
         _read_lines(port, 0.8)
@@ -134,8 +148,6 @@ def test_sketch_uses_a_calibration_header(built, tmp_path):
     from flexcal.calibration.export import header_text
     from flexcal.calibration.mapping import LinearMapping, PhysicalMapping
 
-    from sim_glove import SIM
-
     phys = PhysicalMapping(555.0, 34_200.0, (-2.0, 95.0), pressure_k_ohm_per_psi=80.0)
     data = {"flexcal_version": "test", "created": "now", "recommended_mapping": "physical",
             "mappings": {"physical": phys.to_dict(), "empirical": LinearMapping(587.1, 34_400.0, (-2.0, 95.0)).to_dict()},
@@ -148,17 +160,8 @@ def test_sketch_uses_a_calibration_header(built, tmp_path):
     ram = int(re.search(r"Data:\s+(\d+) bytes", proc.stdout).group(1))
     assert ram < 2048 * 0.6, f"{ram} bytes of RAM with a calibration table leaves too little stack"
     elf = sketch / "build-uno" / "flexcal_glove_.elf"
-    script = tmp_path / "s.txt"
-    script.write_text("0 60000\n")
-    sim = subprocess.Popen([str(SIM), str(elf), str(script)], stdout=subprocess.PIPE, text=True)
-    try:
-        pty = next(line.split()[1] for line in sim.stdout if line.startswith("pty "))
-        with serial.Serial(pty, 115200, timeout=0.05) as port:
-            lines = _read_lines(port, 1.5)
-    finally:
-        sim.kill()
-        sim.wait(timeout=10)
-        sim.stdout.close()
+    with simulated_glove("0 60000\n", tmp_path, elf=elf) as pty, serial.Serial(pty, 115200, timeout=0.05) as port:
+        lines = _read_lines(port, 1.5)
     texts = [t.strip() for _, t in lines]
     assert "# info rate_hz=50 mapping=calibrated" in texts
     s = [parse_line(t) for t in texts if isinstance(parse_line(t), Sample)][-1]
