@@ -19,7 +19,9 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    own edge under the sensor strip and tape (``edges.py``); the finger's edges are
    followed from the middle of its window for as long as they run straight (the
    finger flares towards the knuckle and may bend again at the next joint, so a fixed
-   window would tilt its lines); each arm's axis is the bisector of its two edges, so
+   window would tilt its lines), but not within a finger width of the knuckle, where
+   the phalanx's base flares into the joint (unless a tape band hides most of the
+   rest); each arm's axis is the bisector of its two edges, so
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
@@ -295,7 +297,9 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
 WF_WIN, WF_ITERS = (0.8, 2.5), 4  # the finger's width: median width this many widths from the tip
 NARROW_TIP = (4.0, 1.3)  # the silhouette up to 4 widths from the tip 1.3x wider: the tip is cut (nail)
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
-FIN_EDGE_WIN = (0.6, 2.5)  # the finger's edges are followed this far, if they run straight
+FIN_EDGE_WIN = (1.0, 2.5)  # the finger's edges are followed this far, if they run straight
+FIN_EDGE_NEAR = 0.6      # ... from this close to the knuckle when a band hides most of the window
+SHAFT_SEEN = 0.8         # "most": fewer edge points than this many widths in the window on a side
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
@@ -547,7 +551,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
     # The skin's edge along both sides, found once over everything the finger's and the
     # hand's windows cover when the knuckle moves by KNUCKLE_SHIFT (each arm has its own
     # core colour): (arclength of the nearest midline point, edge point) per side and arm
-    reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[0] * wf),
+    reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_EDGE_NEAR * wf),
              +1: (b - KNUCKLE_SHIFT * wf + HAND_WIN[0] * wf, b + KNUCKLE_SHIFT * wf + HAND_WIN[1] * wf)}
     sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
@@ -571,10 +575,17 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
             # the outline points whose nearest midline point lies in this window; the
             # finger's edges are followed further, as far as they run straight
             edges, core_pts = [], []
+            # The phalanx flares into the joint over about a finger width, so the finger's
+            # edges are taken from there on; when a band (tape) hides most of what is left
+            # of the window on either side, also from nearer the knuckle, on both sides.
+            near_end = FIN_EDGE_WIN[0]
+            if sign < 0 and min(np.sum((sk >= lo_s) & (sk <= bk - near_end * wf))
+                                for sk, _ in (skin[-1, 0], skin[-1, 1])) < SHAFT_SEEN * wf:
+                near_end = FIN_EDGE_NEAR
             for k in (0, 1):
                 s_near, pts = skin[sign, k]
                 if sign < 0:
-                    wide = (s_near >= bk - FIN_EDGE_WIN[1] * wf) & (s_near <= bk - FIN_EDGE_WIN[0] * wf)
+                    wide = (s_near >= bk - FIN_EDGE_WIN[1] * wf) & (s_near <= bk - near_end * wf)
                 else:
                     wide = (s_near >= lo_s) & (s_near <= hi_s)
                 pts, core = pts[wide], (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)

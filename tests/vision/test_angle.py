@@ -26,8 +26,10 @@ def test_accuracy_on_clean_renders(clean_results):
     assert len(answered) >= 0.8 * len(clean_results)
     err = np.array([abs(m.angle_deg - a) for a, m in answered])
     # stated tolerances for clean photos (the benchmark tracks the tighter targets)
-    assert np.median(err) < 1.0
     assert np.percentile(err, 90) < 2.0
+    # the finger's edges are taken along the phalanx's straight shaft, not where its base
+    # flares into the knuckle (with edges from 0.6 widths of the knuckle: median 0.43)
+    assert np.median(err) < 0.35
     for _, m in answered:
         assert 0 <= m.confidence <= 1 and m.method == "contour"
 
