@@ -252,13 +252,15 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     best, comp, candidates = _pick(fg, border_full := border_pixels((h, w)))
     if best is not None:
         # Bridge what crosses the finger in a background colour (tape, a strap, a
-        # highlight): close gaps up to half an arm's width, then choose again.
+        # highlight): close gaps up to half an arm's width, then choose again. The
+        # choice may change: tape cut the finger into pieces, each less finger-like than
+        # a poster in the picture, and the bridged finger is whole again.
         part = (comp == best).astype(np.uint8)
         r = _arm_radius(part)
         d = max(3, int(round(r)) | 1)
         bridged = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
         best2, comp2, candidates2 = _pick(bridged, border_full)
-        if best2 is not None and ((comp2 == best2) & (part > 0)).any():
+        if best2 is not None:
             best, comp, candidates = best2, comp2, candidates2
     if best is None:
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",

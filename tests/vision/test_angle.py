@@ -438,3 +438,12 @@ def test_finishing_fills_small_holes_and_keeps_big_ones():
     assert out[85, 225] == 1
     assert out[100, 85] == 0 and out[100, 40] == 0
     assert out[30, 200] == 1 and out[100, 290] == 0 and out[10, 100] == 0
+
+
+def test_a_finger_cut_into_pieces_by_tape_is_chosen_over_a_poster():
+    # light tape bands on a grey wall cut the finger into three pieces; a pink poster
+    # at the picture's edge is more finger-like than any piece, until the gaps are bridged
+    img, _ = render_finger(0.72, shape=(960, 1280), rng=318890903, difficulty="realistic")
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - 0.72) < 1.5
