@@ -300,6 +300,7 @@ FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towa
 FIN_EDGE_WIN = (1.0, 2.5)  # the finger's edges are followed this far, if they run straight
 FIN_EDGE_NEAR = 0.6      # ... from this close to the knuckle when a band hides most of the window
 SHAFT_SEEN = 0.8         # "most": fewer edge points than this many widths in the window on a side
+UNC_SHORT_SHAFT_DEG = 1.0  # added uncertainty then (realistic renders: MAE 1.0 deg with, 0.5 without)
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
@@ -626,7 +627,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
                 if len(skin_mid) >= 12:
                     kink = min(kink, _kink(skin_mid))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
-                            length=(hi_s - lo_s), kink=kink))
+                            length=(hi_s - lo_s), kink=kink, near=near_end))
         return res
 
     arms = arms_at(b)
@@ -654,7 +655,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
             alt.append(_bend(-r[1]["d"], -r[0]["d"]))
     spread = (max(alt) - min(alt)) / 2 if len(alt) == 2 else 2.0
     stat = np.degrees(np.hypot(fin["se"], hand["se"]))
-    unc = float(np.sqrt(stat ** 2 + (0.5 * spread) ** 2 + UNC_FLOOR_DEG ** 2))
+    # edges taken next to the knuckle (a band hid the shaft) lean with the flare there,
+    # which their residuals do not show
+    short = UNC_SHORT_SHAFT_DEG if fin["near"] < FIN_EDGE_WIN[0] else 0.0
+    unc = float(np.sqrt(stat ** 2 + (0.5 * spread) ** 2 + UNC_FLOOR_DEG ** 2 + short ** 2))
     vtx = _intersect(fin["c"], fin["d"], hand["c"], hand["d"]) if angle > 4 else None
     if vtx is None or np.linalg.norm(vtx - mid[min(len(mid) - 1, np.searchsorted(s, b))]) > 2 * wf:
         vtx = mid[min(len(mid) - 1, np.searchsorted(s, b))]
@@ -707,7 +711,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
         details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=contrast,
                      hand_to_finger_width=hand_ratio,
-                     taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"]),
+                     taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
+                     finger_edges_from_widths=fin["near"]),
     )
     return _grade(meas, reasons)
 

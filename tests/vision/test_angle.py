@@ -447,3 +447,18 @@ def test_a_finger_cut_into_pieces_by_tape_is_chosen_over_a_poster():
     m = measure_angle(img)
     assert m.status == "ok", m.reason
     assert abs(m.angle_deg - 0.72) < 1.5
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_a_tape_band_over_the_finger_shaft_widens_the_uncertainty(seed):
+    # the band hides most of the proximal phalanx's straight shaft: the finger's edges
+    # are then taken from next to the knuckle, where the flare tilts them; the answer
+    # says so with a larger uncertainty
+    plain, _ = render_finger(40.0, shape=(960, 1280), rng=seed, difficulty="clean", background_bgr=(60, 90, 60))
+    taped, _ = render_finger(40.0, shape=(960, 1280), rng=seed, difficulty="clean", tape=True,
+                             background_bgr=(60, 90, 60))
+    m0, m1 = measure_angle(plain), measure_angle(taped)
+    assert m0.status == m1.status == "ok", (m0.reason, m1.reason)
+    assert m0.details["finger_edges_from_widths"] == 1.0 and m1.details["finger_edges_from_widths"] < 1.0
+    assert m1.angle_unc_deg > 1.0 > m0.angle_unc_deg
+    assert abs(m0.angle_deg - 40.0) < 1.0 and abs(m1.angle_deg - 40.0) < 2 * m1.angle_unc_deg
