@@ -438,10 +438,10 @@ def _measure_contour(bgr, segmented=None):
     # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
     # the forearm's colours would cut it off. When the part leaves the picture in more
     # than one place, each is tried as the forearm and the best measurement kept.
+    best = None
     if m.status != "ok":
         wf = m.details.get("finger_width_px")
         piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
-        best = None
         for kept in forearm_clusters(seg):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
                 alt = forearm_colours(seg, kept)
@@ -451,7 +451,14 @@ def _measure_contour(bgr, segmented=None):
                             best is None or (RANK[m2.status], m2.confidence) > (RANK[best.status], best.confidence)):
                         best = m2
         if best is not None:
-            return best
+            m = best
+    if seg.shadow_is_finger and m.status != "ok":
+        # the finger is in the colour of the wall in shadow: its silhouette may be only
+        # its shaded half (the lit half in the wall's colour); only a sure answer counts
+        return failed("the finger's colour is the wall's in shadow, and the measurement is not sure; photograph "
+                      "against a background of another colour", "contour")
+    if m.status == "ok" or best is not None:
+        return m
     exits = _picture_exits(seg.mask) if not m else 1
     if exits > 1:
         # whatever went wrong first, this is what the user can change

@@ -45,6 +45,7 @@ class Segmentation:
     labels: np.ndarray | None = None  # every pixel's colour cluster
     centres: np.ndarray | None = None  # the clusters' colour features
     background: np.ndarray | None = None  # per cluster, whether it is background
+    shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
 
     @cached_property
     def part_radius(self) -> float:
@@ -209,6 +210,16 @@ def _tip_colours(part, labels, border):
     return piece if (piece & border).any() else part
 
 
+def _foreground(labels, background):
+    """Pixels not in a background cluster, without thin things (cables, wires) and pinholes."""
+    h, w = labels.shape
+    fg = (~background[labels]).astype(np.uint8)
+    width_guess = max(3, int(round(min(h, w) * 0.012)))
+    kern = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (width_guess, width_guess))
+    fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, kern)      # drops thin things: cables, wires
+    return cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
+
+
 def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, seed: int = 0) -> Segmentation:
     """Segment the hand and finger in a BGR uint8 image (working resolution)."""
     h, w = bgr.shape[:2]
@@ -233,23 +244,30 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     # a cluster with a background cluster's chromaticity but somewhat darker is that
     # background in shadow (a black glove on a grey wall is much darker than any shadow)
     chroma = _chromaticity(centres)
+    shadow = np.zeros(k, bool)
     for c in np.nonzero(~background)[0]:
-        for bg in np.nonzero(group > border_share)[0]:
+        for bg in np.nonzero(background)[0]:
             dchroma = np.linalg.norm(chroma[c] - chroma[bg])
             ratio = np.exp((centres[c, 2] - centres[bg, 2]) / _LIGHT_SCALE)
             if dchroma < _SHADOW_CHROMA and _SHADOW_RATIO[0] < ratio < _SHADOW_RATIO[1]:
-                background[c] = True
-    if background.all() or not background.any():
+                shadow[c] = True
+    if (background | shadow).all() or not background.any():
         return Segmentation(None, "could not tell the finger from the background (no distinct foreground colour)")
 
     labels = _classify(bgr, labels_s.astype(np.uint8), centres)
-    fg = (~background[labels]).astype(np.uint8)
-
-    width_guess = max(3, int(round(min(h, w) * 0.012)))
-    kern = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (width_guess, width_guess))
-    fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, kern)      # drops thin things: cables, wires
-    fg = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
-    best, comp, candidates = _pick(fg, border_full := border_pixels((h, w)))
+    border_full = border_pixels((h, w))
+    fg = _foreground(labels, background | shadow)
+    best, comp, candidates = _pick(fg, border_full)
+    shadow_is_finger = False
+    if best is None and shadow.any():
+        # Skin or a glove of the wall's hue, only darker, looks like the wall in shadow;
+        # when nothing finger-like is left without those colours, they may be the
+        # finger's (the measurement must then be sure, see angle.py)
+        fg = _foreground(labels, background)
+        best, comp, candidates = _pick(fg, border_full)
+        shadow_is_finger = best is not None
+    if not shadow_is_finger:
+        background = background | shadow
     if best is not None:
         # Bridge what crosses the finger in a background colour (tape, a strap, a
         # highlight): close gaps up to half an arm's width, then choose again. The
@@ -272,7 +290,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     bg_centre = centres[np.argmax(share)]
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
-                        centres=centres, background=background)
+                        centres=centres, background=background, shadow_is_finger=shadow_is_finger)
 
 
 def _finish(mask, border):

@@ -462,3 +462,29 @@ def test_a_tape_band_over_the_finger_shaft_widens_the_uncertainty(seed):
     assert m0.details["finger_edges_from_widths"] == 1.0 and m1.details["finger_edges_from_widths"] < 1.0
     assert m1.angle_unc_deg > 1.0 > m0.angle_unc_deg
     assert abs(m0.angle_deg - 40.0) < 1.0 and abs(m1.angle_deg - 40.0) < 2 * m1.angle_unc_deg
+
+
+def _as_saved_photo(img, tmp_path):
+    """The render written and read back as a user's JPEG photo (what `flexcal measure` sees)."""
+    from flexcal.measure import measure_file
+    path = tmp_path / "photo.jpg"
+    cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    return measure_file(path)[0]
+
+
+def test_skin_of_the_walls_hue_but_darker_is_the_finger_not_the_walls_shadow(tmp_path):
+    # light skin on a peach wall: the finger's colours look like the wall in shadow;
+    # with them taken as shadow nothing finger-like is left, so they are the finger's
+    angle = 12.577279926704417
+    img, _ = render_finger(angle, shape=(960, 1280), rng=628836723, difficulty="realistic", jpeg_quality=None)
+    row = _as_saved_photo(img, tmp_path)
+    assert row["status"] == "ok", row["reason"]
+    assert abs(row["angle_deg"] - angle) < 1.5
+
+
+def test_half_a_finger_in_the_walls_shadow_colour_is_refused(tmp_path):
+    # the lit top of the finger is in the wall's own colour and only its shaded half is
+    # left: the answer would be 8 deg off, so an unsure answer is refused with the reason
+    img, _ = render_finger(8.410134014515624, shape=(960, 1280), rng=375083758, difficulty="clean", jpeg_quality=None)
+    row = _as_saved_photo(img, tmp_path)
+    assert row["status"] == "failed" and "wall's in shadow" in row["reason"]
