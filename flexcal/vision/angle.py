@@ -11,17 +11,20 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    e.g. a nail in the wall's colour left out, from where it reaches full width);
 4. a breakpoint search along the midline finds the knuckle: the point, within the
    anatomical range of 4.8 to 8 finger widths from the tip, that best splits the
-   midline into two straight arms (windows on either side leave out the rounded
-   knuckle and stop short of the next joint); when that gives no sure answer, up to
-   10 widths (a slender finger), taken only if sure and beyond 8 widths; when the best
-   place is the range's near end, the bend there is the second joint's: refused;
+   midline (where its pairs face each other across the silhouette: not in a tape
+   band's notch, where they stray) into two straight arms (windows on either side
+   leave out the rounded knuckle and stop short of the next joint); when that gives no
+   sure answer, up to 10 widths (a slender finger), taken only if sure and beyond 8
+   widths; when the best place is the range's near end, the bend there is the second
+   joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``); the finger's edges are
    followed from the middle of its window for as long as they run straight (the
    finger flares towards the knuckle and may bend again at the next joint, so a fixed
    window would tilt its lines), but not within a finger width of the knuckle, where
    the phalanx's base flares into the joint (unless a tape band hides most of the
-   rest); each arm's axis is the bisector of its two edges, so
+   rest: then from 0.6 widths, the line started from all of that edge rather than from
+   the window's middle); each arm's axis is the bisector of its two edges, so
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
@@ -29,7 +32,8 @@ When the measurement is not sure and a thick piece of the silhouette is in other
 colours than the forearm's (at least a quarter of a finger width when the silhouette
 forks, the part taken for the finger is as wide as the hand or the hand wider than a
 hand; half otherwise), it is measured again in only the forearm's own colours (a box or
-poster of another colour joined to the finger drops out); if that does not give an
+poster of another colour joined to the finger drops out; an unsure answer counts only
+when the first doubt was about something joined to the hand); if that does not give an
 answer, it refuses rather than guess. Its confidence drops when an arm bends inside
 its window.
 
@@ -47,6 +51,7 @@ from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
+from scipy.ndimage import gaussian_filter1d
 from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
@@ -235,25 +240,43 @@ def _outline_chains(mask):
     return (side_a, side_b), ""
 
 
+def _tangents(chain):
+    """Unit tangents of a 1-px resampled outline, smoothed over a few pixels."""
+    if len(chain) < 3:
+        return np.zeros_like(chain)
+    t = np.gradient(gaussian_filter1d(chain, TANGENT_SMOOTH_PX, axis=0, mode="nearest"), axis=0)
+    return t / (np.linalg.norm(t, axis=1, keepdims=True) + 1e-12)
+
+
 def _midline(side_a, side_b):
     """Midline of the silhouette from pairs of facing outline points.
 
     Every point of each side is paired with the nearest point of the other side; the
     pair's midpoint lies on the midline and its distance is the local width. Pairs are
     ordered by their mean arclength from the tip, which for a bent tube is the
-    arclength of its centre line.
+    arclength of its centre line. A pair *faces* across the silhouette when its join is
+    within ~17 deg of both sides' normals; where a side has a notch or a bump (a tape
+    band, the rounded gap a closing left in it) the pairs do not face, and their
+    midpoints stray off the midline in an X.
 
-    Returns (midpoints, widths, s, side_a, side_b), sides resampled at 1 px.
+    Returns (midpoints, widths, s, facing, side_a, side_b), sides resampled at 1 px.
     """
     a, sa = _resample(side_a)
     b, sb = _resample(side_b)
     da, ja = cKDTree(b).query(a)
     db, jb = cKDTree(a).query(b)
+    ta, tb = _tangents(a), _tangents(b)
+
+    def faces(v, dist, t_own, t_other):
+        return ((np.abs(np.einsum("ij,ij->i", t_own, v)) < FACING_COS * dist)
+                & (np.abs(np.einsum("ij,ij->i", t_other, v)) < FACING_COS * dist))
+
     mid = np.vstack([(a + b[ja]) / 2, (b + a[jb]) / 2])
     width = np.concatenate([da, db])
     s = np.concatenate([(sa + sb[ja]) / 2, (sb + sa[jb]) / 2])
+    facing = np.concatenate([faces(b[ja] - a, da, ta, tb[ja]), faces(a[jb] - b, db, tb, ta[jb])])
     order = np.argsort(s, kind="stable")
-    return mid[order], width[order], s[order], a, b
+    return mid[order], width[order], s[order], facing[order], a, b
 
 
 def _arm_window(mid, s, lo, hi):
@@ -316,6 +339,8 @@ MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real han
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
+FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)
+TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 
@@ -437,19 +462,25 @@ def _measure_contour(bgr, segmented=None):
     # where no such piece exists (two fingers of one colour) the forearm's colours cannot
     # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
     # the forearm's colours would cut it off. When the part leaves the picture in more
-    # than one place, each is tried as the forearm and the best measurement kept.
-    best = None
+    # than one place, each is tried as the forearm; of the surest measurements, the one
+    # that keeps the most of the silhouette wins (fewer colours can also cut off the
+    # finger's shaded half, leaving a narrower tube that measures as sure).
+    best, best_key = None, None
     if m.status != "ok":
         wf = m.details.get("finger_width_px")
         piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
+        # at least as sure as the first answer; only a sure one when the first doubt was
+        # not about something joined to the hand (an unsure answer on a silhouette of
+        # fewer colours adds a guess to a doubt: a bent second joint stays unsure)
+        need = max(RANK[m.status], 1 if m.details.get("foreign") else RANK["ok"])
         for kept in forearm_clusters(seg):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
                 alt = forearm_colours(seg, kept)
                 if alt is not None and not np.array_equal(alt, seg.mask):
                     m2 = _measure_silhouette(work, f, alt, seg.contrast)
-                    if m2 and RANK[m2.status] >= RANK[m.status] and (
-                            best is None or (RANK[m2.status], m2.confidence) > (RANK[best.status], best.confidence)):
-                        best = m2
+                    key = (RANK[m2.status], int(alt.sum()))
+                    if RANK[m2.status] >= need and (best is None or key > best_key):
+                        best, best_key = m2, key
         if best is not None:
             m = best
     if seg.shadow_is_finger and m.status != "ok":
@@ -500,7 +531,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
     if chains is None:
         return failed(why, "contour")
     side_a, side_b = chains
-    mid, width, s, a_pts, b_pts = _midline(side_a, side_b)
+    mid, width, s, facing, a_pts, b_pts = _midline(side_a, side_b)
     total = s[-1]
     valid = (s > 0.05 * total)
     if valid.sum() < 20:
@@ -538,7 +569,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
     # leaves the real bend inside one of the two straight segments.
     span_lo, span_hi = SPAN[0] * wf, min(total, sp_hi * wf)
     cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
-    scores = _two_line_scores(mid, s, span_lo, span_hi, cands - FIN_WIN[0] * wf, cands + HAND_WIN[0] * wf)
+    # (the midline where its pairs face across the silhouette: a tape band's notch,
+    # strayed, would pull the knuckle to the band)
+    scores = _two_line_scores(mid[facing], s[facing], span_lo, span_hi, cands - FIN_WIN[0] * wf,
+                              cands + HAND_WIN[0] * wf)
     if not len(scores) or not np.isfinite(scores).any():
         return fail("could not find two straight arms in the silhouette")
     # the middle of the run of places that fit (almost) as well as the best
@@ -601,7 +635,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
                     return None
                 core_pts.append(pts[core])
                 if sign < 0:
-                    c_e, d_e, r_e, w_e = _consensus_line(pts, core, max(STRAIGHT_PX, STRAIGHT_W * wf))
+                    # the line is started from the window's core, or, when a band hides
+                    # most of it, from all the edge there is (robustly)
+                    seed = core if near_end == FIN_EDGE_WIN[0] else np.ones(len(pts), bool)
+                    c_e, d_e, r_e, w_e = _consensus_line(pts, seed, max(STRAIGHT_PX, STRAIGHT_W * wf))
                 else:
                     c_e, d_e, r_e, w_e = _robust_line(pts)
                 if np.dot(d_e, dm) < 0:

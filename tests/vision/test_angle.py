@@ -488,3 +488,25 @@ def test_half_a_finger_in_the_walls_shadow_colour_is_refused(tmp_path):
     img, _ = render_finger(8.410134014515624, shape=(960, 1280), rng=375083758, difficulty="clean", jpeg_quality=None)
     row = _as_saved_photo(img, tmp_path)
     assert row["status"] == "failed" and "wall's in shadow" in row["reason"]
+
+
+@pytest.mark.parametrize("seed", [8, 9, 12])
+def test_a_tape_band_over_the_finger_does_not_move_the_knuckle(seed):
+    # the band's notch (or bump) used to draw the knuckle a finger width towards the
+    # tip, putting the band inside the finger's window; the answers were 2-2.5 deg off
+    angle = 20.0 + 5 * seed
+    img, _ = render_finger(angle, shape=(960, 1280), rng=seed, difficulty="clean", tape=True)
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - angle) < 1.0
+
+
+def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(tmp_path):
+    # taking the colours where the cable leaves the picture cuts off the finger's shaded
+    # underside: a narrower tube that measures sure, 22 deg off; the colours where the
+    # forearm leaves keep the whole finger
+    angle = 32.178099248251094
+    img, _ = render_finger(angle, shape=(960, 1280), rng=99199389, difficulty="realistic", jpeg_quality=None)
+    row = _as_saved_photo(img, tmp_path)
+    assert row["status"] == "ok", row["reason"]
+    assert abs(row["angle_deg"] - angle) < 1.5
