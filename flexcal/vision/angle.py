@@ -35,7 +35,9 @@ hand; half otherwise), it is measured again in only the forearm's own colours (a
 poster of another colour joined to the finger drops out; an unsure answer counts only
 when the first doubt was about something joined to the hand); if that does not give an
 answer, it refuses rather than guess. Its confidence drops when an arm bends inside
-its window.
+its window. An unsure photo is segmented again in finer colours (nine clusters, not
+six: posters on the wall use clusters up); a sure answer on that silhouette counts when
+it mostly agrees with the first (intersection over union at least 0.85).
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -341,6 +343,8 @@ KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this clos
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)
 TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
+FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
+AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 
 
@@ -443,6 +447,27 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 
 def _measure_contour(bgr, segmented=None):
     work, f, seg = segmented if segmented is not None else _segment(bgr)
+    m = _measure_segmentation(work, f, seg)
+    if m.status == "ok" or seg.mask is None or seg.shadow_is_finger:
+        return m
+    # How many colours the picture holds is a guess (six clusters); with a cluttered
+    # wall, skin can share one with a poster, or the finger's lit rim one with the wall.
+    # An unsure photo is segmented again in finer colours; a sure answer counts if that
+    # silhouette mostly agrees with the first (finer colours may trim what was joined
+    # to the finger or give back its rim; a silhouette mostly elsewhere is another guess).
+    finer = segment_finger(work, k=FINER_COLOURS)
+    if finer.mask is None or finer.shadow_is_finger:
+        return m
+    a, b = seg.mask > 0, finer.mask > 0
+    if np.sum(a & b) < AGREE_IOU * np.sum(a | b):
+        return m
+    m2 = _measure_segmentation(work, f, finer)
+    return m2 if m2.status == "ok" else m
+
+
+def _measure_segmentation(work, f, seg):
+    """Measure one segmentation of the working image: its silhouette, and when unsure,
+    further (a slender finger's knuckle, the silhouette in the forearm's colours)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)

@@ -510,3 +510,24 @@ def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(
     row = _as_saved_photo(img, tmp_path)
     assert row["status"] == "ok", row["reason"]
     assert abs(row["angle_deg"] - angle) < 1.5
+
+
+@pytest.mark.parametrize("angle, rng", [(3.7064964957248616, 1855444348), (41.84074509875122, 653852867)])
+def test_an_unsure_photo_of_a_cluttered_wall_is_segmented_again_in_finer_colours(tmp_path, angle, rng):
+    # posters on the wall use up the six colour clusters: the finger's silhouette takes
+    # in some wall or loses its rim, and the measurement is unsure (the first refused as
+    # a bent second joint); in nine colours the silhouette is the finger's
+    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="realistic", jpeg_quality=None)
+    row = _as_saved_photo(img, tmp_path)
+    assert row["status"] == "ok", row["reason"]
+    assert abs(row["angle_deg"] - angle) < 1.5
+
+
+@pytest.mark.parametrize("angle, rng", [(74.63685589089647, 1385066308), (83.75929666211532, 423916129)])
+def test_a_finer_segmentation_mostly_elsewhere_is_not_taken(tmp_path, angle, rng):
+    # in finer colours these photos give a sure answer on another silhouette (the hand
+    # without its finger, the shaded underside of the hand): 74 and 83 deg off; it
+    # overlaps the first too little to be the same finger, and the photo stays refused
+    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="hard", jpeg_quality=None)
+    row = _as_saved_photo(img, tmp_path)
+    assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 5.0, row["angle_deg"]
