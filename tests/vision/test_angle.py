@@ -464,9 +464,11 @@ def test_a_tape_band_over_the_finger_shaft_widens_the_uncertainty(seed):
     assert abs(m0.angle_deg - 40.0) < 1.0 and abs(m1.angle_deg - 40.0) < 2 * m1.angle_unc_deg
 
 
-def _as_saved_photo(img, tmp_path):
-    """The render written and read back as a user's JPEG photo (what `flexcal measure` sees)."""
+def _as_saved_photo(tmp_path, angle, rng, difficulty):
+    """A 1280x960 render written and read back as a user's JPEG photo (the benchmark's
+    photos), measured as `flexcal measure` does: its row of the angles table."""
     from flexcal.measure import measure_file
+    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty=difficulty, jpeg_quality=None)
     path = tmp_path / "photo.jpg"
     cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
     return measure_file(path)[0]
@@ -476,8 +478,7 @@ def test_skin_of_the_walls_hue_but_darker_is_the_finger_not_the_walls_shadow(tmp
     # light skin on a peach wall: the finger's colours look like the wall in shadow;
     # with them taken as shadow nothing finger-like is left, so they are the finger's
     angle = 12.577279926704417
-    img, _ = render_finger(angle, shape=(960, 1280), rng=628836723, difficulty="realistic", jpeg_quality=None)
-    row = _as_saved_photo(img, tmp_path)
+    row = _as_saved_photo(tmp_path, angle, 628836723, "realistic")
     assert row["status"] == "ok", row["reason"]
     assert abs(row["angle_deg"] - angle) < 1.5
 
@@ -485,8 +486,7 @@ def test_skin_of_the_walls_hue_but_darker_is_the_finger_not_the_walls_shadow(tmp
 def test_half_a_finger_in_the_walls_shadow_colour_is_refused(tmp_path):
     # the lit top of the finger is in the wall's own colour and only its shaded half is
     # left: the answer would be 8 deg off, so an unsure answer is refused with the reason
-    img, _ = render_finger(8.410134014515624, shape=(960, 1280), rng=375083758, difficulty="clean", jpeg_quality=None)
-    row = _as_saved_photo(img, tmp_path)
+    row = _as_saved_photo(tmp_path, 8.410134014515624, 375083758, "clean")
     assert row["status"] == "failed" and "wall's in shadow" in row["reason"]
 
 
@@ -506,8 +506,7 @@ def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(
     # underside: a narrower tube that measures sure, 22 deg off; the colours where the
     # forearm leaves keep the whole finger
     angle = 32.178099248251094
-    img, _ = render_finger(angle, shape=(960, 1280), rng=99199389, difficulty="realistic", jpeg_quality=None)
-    row = _as_saved_photo(img, tmp_path)
+    row = _as_saved_photo(tmp_path, angle, 99199389, "realistic")
     assert row["status"] == "ok", row["reason"]
     assert abs(row["angle_deg"] - angle) < 1.5
 
@@ -517,8 +516,7 @@ def test_an_unsure_photo_of_a_cluttered_wall_is_segmented_again_in_finer_colours
     # posters on the wall use up the six colour clusters: the finger's silhouette takes
     # in some wall or loses its rim, and the measurement is unsure (the first refused as
     # a bent second joint); in nine colours the silhouette is the finger's
-    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="realistic", jpeg_quality=None)
-    row = _as_saved_photo(img, tmp_path)
+    row = _as_saved_photo(tmp_path, angle, rng, "realistic")
     assert row["status"] == "ok", row["reason"]
     assert abs(row["angle_deg"] - angle) < 1.5
 
@@ -528,6 +526,5 @@ def test_a_finer_segmentation_mostly_elsewhere_is_not_taken(tmp_path, angle, rng
     # in finer colours these photos give a sure answer on another silhouette (the hand
     # without its finger, the shaded underside of the hand): 74 and 83 deg off; it
     # overlaps the first too little to be the same finger, and the photo stays refused
-    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="hard", jpeg_quality=None)
-    row = _as_saved_photo(img, tmp_path)
+    row = _as_saved_photo(tmp_path, angle, rng, "hard")
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 5.0, row["angle_deg"]
