@@ -466,8 +466,9 @@ def _measure_contour(bgr, segmented=None):
 
 
 def _measure_segmentation(work, f, seg):
-    """Measure one segmentation of the working image: its silhouette, and when unsure,
-    further (a slender finger's knuckle, the silhouette in the forearm's colours)."""
+    """Measure one segmentation of the working image: its silhouette and, when that is
+    unsure, the alternatives (a slender finger's knuckle beyond the usual range, the
+    silhouette in only the forearm's colours)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)
@@ -497,7 +498,7 @@ def _measure_segmentation(work, f, seg):
         # at least as sure as the first answer; only a sure one when the first doubt was
         # not about something joined to the hand (an unsure answer on a silhouette of
         # fewer colours adds a guess to a doubt: a bent second joint stays unsure)
-        need = max(RANK[m.status], 1 if m.details.get("foreign") else RANK["ok"])
+        need = max(RANK[m.status], RANK["low_confidence"] if m.details.get("foreign") else RANK["ok"])
         for kept in forearm_clusters(seg):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
                 alt = forearm_colours(seg, kept)
