@@ -64,8 +64,14 @@ class SteadyTracker:
     """Online steadiness of a live stream, by the same rule as ``steady_mask``.
 
     ``update(t_s, r)`` with each sample; ``steady_for_s`` says how long the signal has
-    been steady (0 when it is not). The noise is estimated from the recent history.
+    been steady (0 when it is not). The noise is estimated from the recent history: at
+    every check until it rests on ``MIN_NOISE_SAMPLES`` samples (two or three first
+    readings can be nearly equal and give a noise far too small, which would hold a
+    steady signal unsteady), then every ``NOISE_EVERY`` samples.
     """
+
+    MIN_NOISE_SAMPLES = 12
+    NOISE_EVERY = 25
 
     def __init__(self, *, window_s: float = 0.5, tolerance: float = 3.0, history_s: float = 10.0,
                  check_every_s: float = 0.02):
@@ -78,6 +84,7 @@ class SteadyTracker:
         self._since: float | None = None
         self.noise = float("nan")
         self._n = 0
+        self._noise_n = 0        # samples seen when the noise was last estimated
 
     def update(self, t_s: float, r: float) -> bool:
         if not np.isfinite(r):
@@ -93,8 +100,9 @@ class SteadyTracker:
         if self._last_check is not None and t_s - self._last_check < self.check_every_s:
             return self._since is not None      # at high rates, judge every check_every_s only
         self._last_check = t_s
-        if self._n % 25 == 1 or not np.isfinite(self.noise):
+        if self._noise_n < self.MIN_NOISE_SAMPLES or self._n - self._noise_n >= self.NOISE_EVERY:
             self.noise = noise_ohm(self._r)
+            self._noise_n = self._n
         t = np.asarray(self._t)
         win = np.asarray(self._r)[t >= t_s - self.window_s]
         steady = win.size >= 3 and t_s - t[0] >= self.window_s and \

@@ -75,6 +75,27 @@ def test_clock_fit_recovers_drift_and_removes_jitter():
     assert c.jitter_s()["max_s"] > 0.07          # and the spikes are reported
 
 
+def test_steadiness_is_not_held_back_by_a_first_noise_guess_from_equal_readings():
+    # the first readings of a quantised stream can be equal: the noise estimated from
+    # them is near zero, and a steady 40-ohm-noise signal never counted as steady until
+    # the estimate was renewed; that renewal came every 25th sample *checked*, and lines
+    # read in bursts of four (one arrival stamp) are checked once per burst, so it came
+    # after 100 samples (2 s at 50 Hz; the fake glove's first step was missed in CI)
+    from flexcal.capture.plateaus import SteadyTracker
+    rng = np.random.default_rng(7)
+    r = 34500 + rng.normal(0, 40, 150)
+    r[:3] = [34500.0, 34501.0, 34500.0]
+    tr = SteadyTracker(window_s=0.5)
+    steady_at = None
+    for i, v in enumerate(r):
+        t = 0.02 * (i - i % 4)            # four lines per read, one arrival time
+        tr.update(t, float(v))
+        if steady_at is None and tr.steady_for_s >= 0.8:
+            steady_at = t
+    assert steady_at is not None and steady_at < 1.6
+    assert tr.noise == pytest.approx(40, rel=0.35)
+
+
 def test_frame_source_plays_a_video_file_in_time(tmp_path):
     path = tmp_path / "v.avi"
     w = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 20, (64, 48))
