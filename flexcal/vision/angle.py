@@ -371,7 +371,7 @@ def _skin_midline(sides, direction):
     a, b = sides
     _, j = cKDTree(b).query(a)
     v = b[j] - a
-    ok = np.abs(v @ direction) < 0.3 * np.linalg.norm(v, axis=1)
+    ok = np.abs(v @ direction) < FACING_COS * np.linalg.norm(v, axis=1)
     mids = (a[ok] + b[j[ok]]) / 2
     return mids[np.argsort(mids @ direction)]
 
