@@ -18,13 +18,13 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    widths; when the best place is the range's near end, the bend there is the second
    joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
-   own edge under the sensor strip and tape (``edges.py``); the finger's edges are
-   followed from the middle of its window for as long as they run straight (the
-   finger flares towards the knuckle and may bend again at the next joint, so a fixed
-   window would tilt its lines), but not within a finger width of the knuckle, where
-   the phalanx's base flares into the joint (unless a tape band hides most of the
-   rest: then from 0.6 widths, the line started from all of that edge rather than from
-   the window's middle); each arm's axis is the bisector of its two edges, so
+   own edge under the sensor strip and tape (``edges.py``); on the finger, each edge
+   line is the longest straight stretch of edge between 1 and 2.75 widths from the
+   knuckle (a robust line through all of it, refitted to the points that lie on it:
+   the finger flares towards the knuckle and may bend again at the next joint, so a
+   line through the whole window would tilt), not nearer the knuckle, where the
+   phalanx's base flares into the joint (unless a tape band hides most of the window:
+   then from 0.6 widths); each arm's axis is the bisector of its two edges, so
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
@@ -175,15 +175,16 @@ def _robust_line(pts, iters=4):
     return c, d, r, w
 
 
-def _consensus_line(pts, seed, tol, iters=3):
-    """A line through the points that lie within ``tol`` of it, started from ``seed``.
+def _consensus_line(pts, tol, iters=3):
+    """A line through the points that lie within ``tol`` of it.
 
-    The line is first fitted (robustly) to the seed points, then refitted to every point
-    within ``tol`` px of it, a few times: a straight stretch of outline is followed as far
-    as it goes, and where the outline curves away (the knuckle's flare, the next joint)
-    or stands off (tape) it is left out. Returns (centroid, direction, residuals, weights).
+    The line is first fitted robustly to all the points, then refitted to every point
+    within ``tol`` px of it, a few times: the longest straight stretch of outline is
+    followed as far as it goes, and where the outline curves away (the knuckle's flare,
+    the next joint) or stands off (tape) it is left out. Returns (centroid, direction,
+    residuals, weights).
     """
-    c, d, _, w = _robust_line(pts[seed])
+    c, d, _, w = _robust_line(pts)
     n = np.array([-d[1], d[0]])
     for _ in range(iters):
         r = (pts - c) @ n
@@ -322,7 +323,7 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
 WF_WIN, WF_ITERS = (0.8, 2.5), 4  # the finger's width: median width this many widths from the tip
 NARROW_TIP = (4.0, 1.3)  # the silhouette up to 4 widths from the tip 1.3x wider: the tip is cut (nail)
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
-FIN_EDGE_WIN = (1.0, 2.5)  # the finger's edges are followed this far, if they run straight
+FIN_EDGE_WIN = (1.0, 2.75)  # the finger's edges are followed this far, if they run straight
 FIN_EDGE_NEAR = 0.6      # ... from this close to the knuckle when a band hides most of the window
 SHAFT_SEEN = 0.8         # "most": fewer edge points than this many widths in the window on a side
 UNC_SHORT_SHAFT_DEG = 1.0  # added uncertainty then (realistic renders: MAE 1.0 deg with, 0.5 without)
@@ -661,10 +662,9 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
                     return None
                 core_pts.append(pts[core])
                 if sign < 0:
-                    # the line is started from the window's core, or, when a band hides
-                    # most of it, from all the edge there is (robustly)
-                    seed = core if near_end == FIN_EDGE_WIN[0] else np.ones(len(pts), bool)
-                    c_e, d_e, r_e, w_e = _consensus_line(pts, seed, max(STRAIGHT_PX, STRAIGHT_W * wf))
+                    # started (robustly) from all the edge in the window, not from its
+                    # core: a band in the core leaves too little there to aim the line
+                    c_e, d_e, r_e, w_e = _consensus_line(pts, max(STRAIGHT_PX, STRAIGHT_W * wf))
                 else:
                     c_e, d_e, r_e, w_e = _robust_line(pts)
                 if np.dot(d_e, dm) < 0:

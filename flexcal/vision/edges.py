@@ -33,6 +33,7 @@ SEARCH_DEPTH = 0.3       # how deep an attached layer may be, in finger widths
 RUN_PX = 2.0             # the colour must stay core-like this far to count as the skin's edge
 LAYER_EDGE_PX = 4.0      # a layer's colour turns into the skin's within this distance
 MIN_LAYER_PX = 1.0       # shallower departures are the outline's own blur, not a layer
+LAYER_CONTRAST = 1.5     # a layer's colour is this many times further from the core's than the core-like limit
 BAND_MARGIN = 0.25       # outline dropped on either side of a band across the finger, in widths
 LIGHT_WEIGHT = 0.35      # shading changes brightness across a round finger; colour counts more
 
@@ -104,6 +105,9 @@ def skin_edge(bgr, pts, normals, width_px):
     plateau = (idx < first[:, None]) & (dist >= 0.8 * layer[:, None])
     p_end = np.where(plateau.any(axis=1), dist.shape[1] - 1 - np.argmax(plateau[:, ::-1], axis=1), 0)
     sharp = (first - p_end) * STEP_PX <= LAYER_EDGE_PX
+    # a colour only just past the limit of core-like is the skin's shaded rim, its
+    # distance hovering about the limit (a layer's edge would move with the noise)
+    sharp &= layer >= LAYER_CONTRAST * thr
     shift = np.where((first > 0) & sharp, t[j] + frac * STEP_PX, 0.0)
     shift[shift < MIN_LAYER_PX] = 0.0
     # the outline next to a band that crosses the finger runs along the band's own
