@@ -33,7 +33,7 @@ SEARCH_DEPTH = 0.3       # how deep an attached layer may be, in finger widths
 RUN_PX = 2.0             # the colour must stay core-like this far to count as the skin's edge
 LAYER_EDGE_PX = 4.0      # a layer's colour turns into the skin's within this distance
 MIN_LAYER_PX = 1.0       # shallower departures are the outline's own blur, not a layer
-LAYER_CONTRAST = 1.5     # a layer's colour is this many times further from the core's than the core-like limit
+LAYER_CONTRAST = 2.0     # a layer's colour is this many times further from the core's than the core-like limit
 BAND_MARGIN = 0.25       # outline dropped on either side of a band across the finger, in widths
 LIGHT_WEIGHT = 0.35      # shading changes brightness across a round finger; colour counts more
 
