@@ -298,6 +298,8 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
     """
     sel = (s >= span_lo) & (s <= span_hi)
     p, t = mid[sel], s[sel]
+    if len(p) < 16:     # (no midline there at all: a silhouette whose pairs nowhere face)
+        return np.full(len(finger_ends), np.inf)
     in_f = t[None, :] <= finger_ends[:, None]
     in_h = t[None, :] >= hand_starts[:, None]
 

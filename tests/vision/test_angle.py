@@ -181,6 +181,19 @@ def test_skin_edge_is_found_under_a_strip_and_tape_is_dropped():
     assert keep.sum() > 0.7 * len(xs)
 
 
+def test_a_silhouette_with_no_facing_midline_where_the_knuckle_is_sought_is_refused():
+    # in nine colours this cluttered photo's silhouette had no facing pairs over the
+    # stretch searched for the knuckle, and the search raised an IndexError
+    from flexcal.vision.angle import _measure_segmentation, _segment, _two_line_scores
+    from flexcal.vision.segment import segment_finger
+    cands = np.arange(100.0, 140.0)
+    assert np.isinf(_two_line_scores(np.zeros((0, 2)), np.zeros(0), 0.0, 300.0, cands - 10, cands + 15)).all()
+    img, _ = render_finger(2.6709327157127505, shape=(960, 1280), rng=924267260, difficulty="realistic")
+    work, f, _ = _segment(img)
+    m = _measure_segmentation(work, f, segment_finger(work, k=9))
+    assert m.status == "failed" and m.reason
+
+
 def test_two_line_scores_match_one_fit_per_candidate_and_find_the_bend():
     from flexcal.vision.angle import _fit_line, _two_line_scores
     rng = np.random.default_rng(5)
