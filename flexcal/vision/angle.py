@@ -760,7 +760,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         if 0.5 * spread >= stat:
             reasons.append(f"the angle depends on where the knuckle is placed (+-{unc:.1f} deg)")
         else:
-            reasons.append(f"the arms' outlines are too short or uneven for a precise line (+-{unc:.1f} deg)")
+            reasons.append(f"the arms' outlines are too short or uneven for a precise line (+-{unc:.1f} deg)"
+                           if np.isfinite(unc) else "an edge of an arm has too few points on a straight line to fit one")
     # cross-check: the turn of the midline itself between the two windows must agree
     # with the edges' answer; a disagreement means the windows hold something that is
     # not a straight arm (another finger, a strap, a wrong silhouette)

@@ -1,3 +1,5 @@
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
@@ -560,3 +562,12 @@ def test_a_finer_segmentation_mostly_elsewhere_is_not_taken(tmp_path, angle, rng
     # overlaps the first too little to be the same finger, and the photo stays refused
     row = _as_saved_photo(tmp_path, angle, rng, "hard")
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 5.0, row["angle_deg"]
+
+
+def test_a_refusal_for_edges_without_a_line_says_so_in_words():
+    # a tape band on a pale glove leaves a few edge points around it, no straight
+    # line: the reason read "(+-inf deg)"
+    from flexcal.measure import measure_file
+    photo = Path(__file__).resolve().parents[2] / "datasets/sample/trial_02/images/step_06_050deg.jpg"
+    row = measure_file(photo)[0]
+    assert row["status"] == "ok" or ("inf" not in row["reason"] and "straight line" in row["reason"]), row["reason"]
