@@ -298,7 +298,7 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
     """
     sel = (s >= span_lo) & (s <= span_hi)
     p, t = mid[sel], s[sel]
-    if len(p) < 16:     # (no midline there at all: a silhouette whose pairs nowhere face)
+    if len(p) < 16:     # two windows of 8 cannot fit (a silhouette whose pairs nowhere face there)
         return np.full(len(finger_ends), np.inf)
     in_f = t[None, :] <= finger_ends[:, None]
     in_h = t[None, :] >= hand_starts[:, None]

@@ -13,7 +13,9 @@ reaches). Where the profile starts with a layer of another colour, the skin's ed
 where the colour is half-way between the layer's and the skin's (sub-pixel), just
 before the profile settles on the core colour; a layer ends in a step (its edge,
 blurred by the optics), while a colour that fades into the skin's over several pixels
-is the skin's own shaded rim (dark skin lit from the other side) and not a layer.
+is the skin's own shaded rim (dark skin lit from the other side) and not a layer, and
+so is a colour only just past the limit of the skin's own (a darker underside): a layer
+stands out from the skin at least twice as much as the skin varies.
 Points whose profile never settles within the search depth (a tape band that crosses
 the whole finger) are dropped, with the outline a quarter of a finger width either
 side of them (the band's own edge).
