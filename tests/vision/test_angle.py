@@ -489,13 +489,18 @@ def _as_saved_photo(tmp_path, angle, rng, difficulty):
     return measure_file(path)[0]
 
 
+def _assert_measured(tmp_path, angle, rng, difficulty, tol):
+    """The saved photo (``_as_saved_photo``) is answered sure and within ``tol`` deg."""
+    row = _as_saved_photo(tmp_path, angle, rng, difficulty)
+    assert row["status"] == "ok", row["reason"]
+    assert abs(row["angle_deg"] - angle) < tol
+
+
 def test_skin_of_the_walls_hue_but_darker_is_the_finger_not_the_walls_shadow(tmp_path):
     # light skin on a peach wall: the finger's colours look like the wall in shadow;
     # with them taken as shadow nothing finger-like is left, so they are the finger's
     angle = 12.577279926704417
-    row = _as_saved_photo(tmp_path, angle, 628836723, "realistic")
-    assert row["status"] == "ok", row["reason"]
-    assert abs(row["angle_deg"] - angle) < 1.5
+    _assert_measured(tmp_path, angle, 628836723, "realistic", tol=1.5)
 
 
 def test_half_a_finger_in_the_walls_shadow_colour_is_refused(tmp_path):
@@ -521,18 +526,14 @@ def test_a_shaded_rim_of_the_finger_is_not_taken_for_a_layer_on_it(tmp_path):
     # skin's own, was taken for a layer on some outline points and not on others, so
     # the edge line tilted: 2.6 deg off. A layer stands out from the skin more.
     angle = 79.9555883685009
-    row = _as_saved_photo(tmp_path, angle, 2058286628, "clean")
-    assert row["status"] == "ok", row["reason"]
-    assert abs(row["angle_deg"] - angle) < 1.0
+    _assert_measured(tmp_path, angle, 2058286628, "clean", tol=1.0)
 
 
 def test_the_finger_edge_line_is_aimed_from_all_of_its_window(tmp_path):
     # the sensor strip ends in the finger's window: the window's core held little skin
     # edge under it, and the line started there ran 2.8 deg off the finger's edge
     angle = 61.813210459480175
-    row = _as_saved_photo(tmp_path, angle, 1674246220, "realistic")
-    assert row["status"] == "ok", row["reason"]
-    assert abs(row["angle_deg"] - angle) < 1.0
+    _assert_measured(tmp_path, angle, 1674246220, "realistic", tol=1.0)
 
 
 def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(tmp_path):
@@ -540,9 +541,7 @@ def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(
     # underside: a narrower tube that measures sure, 22 deg off; the colours where the
     # forearm leaves keep the whole finger
     angle = 32.178099248251094
-    row = _as_saved_photo(tmp_path, angle, 99199389, "realistic")
-    assert row["status"] == "ok", row["reason"]
-    assert abs(row["angle_deg"] - angle) < 1.5
+    _assert_measured(tmp_path, angle, 99199389, "realistic", tol=1.5)
 
 
 @pytest.mark.parametrize("angle, rng", [(3.7064964957248616, 1855444348), (41.84074509875122, 653852867)])
@@ -550,9 +549,7 @@ def test_an_unsure_photo_of_a_cluttered_wall_is_segmented_again_in_finer_colours
     # posters on the wall use up the six colour clusters: the finger's silhouette takes
     # in some wall or loses its rim, and the measurement is unsure (the first refused as
     # a bent second joint); in nine colours the silhouette is the finger's
-    row = _as_saved_photo(tmp_path, angle, rng, "realistic")
-    assert row["status"] == "ok", row["reason"]
-    assert abs(row["angle_deg"] - angle) < 1.5
+    _assert_measured(tmp_path, angle, rng, "realistic", tol=1.5)
 
 
 @pytest.mark.parametrize("angle, rng", [(74.63685589089647, 1385066308), (83.75929666211532, 423916129)])
