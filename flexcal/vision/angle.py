@@ -57,7 +57,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
-from flexcal.vision.edges import inward_normals, skin_edge
+from flexcal.vision.edges import cut_contrast, inward_normals, skin_edge
 from flexcal.vision.segment import (border_pixels, forearm_clusters, forearm_colours, other_colours_thickness,
                                     segment_finger)
 
@@ -339,6 +339,7 @@ MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel 
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 RANK = {"failed": 0, "low_confidence": 1, "ok": 2}
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
+MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
@@ -506,6 +507,9 @@ def _measure_segmentation(work, f, seg):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
                 alt = forearm_colours(seg, kept)
                 if alt is not None and not np.array_equal(alt, seg.mask):
+                    step = cut_contrast(work, seg.mask, alt)
+                    if step is not None and step < MIN_CUT_CONTRAST:
+                        continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     m2 = _measure_silhouette(work, f, alt, seg.contrast)
                     key = (RANK[m2.status], int(alt.sum()))
                     if RANK[m2.status] >= need and (best is None or key > best_key):

@@ -118,3 +118,32 @@ def skin_edge(bgr, pts, normals, width_px):
     if k > 0 and not found.all():
         found = found & ~binary_dilation(~found, np.ones(2 * k + 1, bool))
     return pts + normals * shift[:, None], found
+
+
+def cut_contrast(bgr, whole, piece, min_px=20):
+    """How distinct the outline is that ``piece`` (a silhouette within ``whole``) has
+    inside ``whole``: the median colour step across it, 3 px either side along its
+    normal; None when under ``min_px`` pixels of its outline lie inside ``whole``.
+
+    When fewer colours cut an object off the silhouette, the new outline is where the
+    object's colour meets the finger's: a step. Where they cut the finger itself (its
+    lit half from its shaded half) the colour changes gradually, and the step is small.
+    """
+    m = piece.astype(np.uint8)
+    outline = (m > 0) & (cv2.erode(m, np.ones((3, 3), np.uint8)) == 0)
+    inner = cv2.erode(whole.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
+    ys, xs = np.nonzero(outline & inner)
+    if len(ys) < min_px:
+        return None
+    gy, gx = np.gradient(cv2.GaussianBlur(m.astype(np.float32), (7, 7), 2))
+    n = np.column_stack([gx[ys, xs], gy[ys, xs]])
+    n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-9          # into the piece
+    blurred = cv2.GaussianBlur(bgr, (3, 3), 0)
+    h, w = m.shape
+
+    def sample(depth):
+        px = np.clip(np.round(xs + n[:, 0] * depth).astype(int), 0, w - 1)
+        py = np.clip(np.round(ys + n[:, 1] * depth).astype(int), 0, h - 1)
+        return colour_features(blurred[py, px])
+
+    return float(np.median(_distance(sample(3.0), sample(-3.0))))
