@@ -15,8 +15,9 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    band's notch, where they stray) into two straight arms (windows on either side
    leave out the rounded knuckle and stop short of the next joint); when that gives no
    sure answer, up to 10 widths (a slender finger), taken only if sure and beyond 8
-   widths; when the best place is the range's near end, the bend there is the second
-   joint's: refused;
+   widths (an answer within the range is not sure when, with more of the hand in view,
+   the midline splits into straight arms ten times better beyond it); when the best
+   place is the range's near end, the bend there is the second joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``); on the finger, each edge
    line is the longest straight stretch of edge between 1 and 2.75 widths from the
@@ -335,6 +336,7 @@ KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths 
 PINNED_W = 0.3           # the best knuckle places all this close (widths) to the range's near end: the bend is below it
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
+BEYOND_RATIO = 0.1       # straight arms beyond the range, this much straighter (scores) than at the knuckle found: it may be there
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 RANK = {"failed": 0, "low_confidence": 1, "ok": 2}
@@ -403,6 +405,22 @@ def _free_branches(mask, width_px):
     length = np.bincount(comp.ravel(), minlength=n) * q
     ids = comp[ends]
     return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
+
+
+def _splits_better_beyond(mid, s, wf, total, b, hi):
+    """Whether, scored over the long finger's span, the midline (``mid`` at arclengths
+    ``s``) splits into two straight arms (``STRAIGHT_TOL``) somewhere between the
+    knuckle range's far end ``hi`` and ``LONG_FINGER[0]`` widths from the tip, ten
+    times better (``BEYOND_RATIO``) than at the knuckle found, ``b``."""
+    step = max(1.0, 0.05 * wf)
+    span_hi = min(total, LONG_FINGER[1] * wf)
+    ext = np.arange(hi + step, min(LONG_FINGER[0] * wf, total - HAND_WIN[1] * wf * 0.6, span_hi - 1.2 * wf), step)
+    if not len(ext):
+        return False
+    both = np.concatenate([[b], ext])
+    sc = _two_line_scores(mid, s, SPAN[0] * wf, span_hi, both - FIN_WIN[0] * wf, both + HAND_WIN[0] * wf)
+    at_b, beyond = sc[0], sc[1:].min()
+    return bool(beyond < min((STRAIGHT_TOL * wf) ** 2, BEYOND_RATIO * at_b))
 
 
 def _finger_width(width, s, start):
@@ -620,6 +638,13 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         return fail("the finger bends most where the second joint is: the knuckle cannot be told from it; "
                     "photograph with the second joint straight")
 
+    # A slender finger's knuckle may lie just beyond the range; then the best place
+    # within it is only the next joint or the step where a thin distal part meets the
+    # finger, and the hand's arm holds the knuckle's bend (its trimmed score and a short
+    # span can hide it). Refused (a longer search may still take it, see
+    # _measure_segmentation) when, with more of the hand in view, the midline splits
+    # into straight arms clearly better beyond the range than at the place found.
+    beyond = not long_finger and _splits_better_beyond(mid[facing], s[facing], wf, total, b, hi)
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
     near_b = mtree.query(b_pts)[1]
@@ -779,6 +804,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         if disagree > max(1.5, 2 * unc):
             conf *= max(0.0, 1 - (disagree - max(1.5, 2 * unc)) / 3.0)
             reasons.append(f"the midline and the edges disagree by {disagree:.1f} deg")
+    if beyond:
+        conf = 0.0
+        reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "
+                       "the knuckle may lie there (a slender finger)")
     conf = float(np.clip(conf, 0, 1))
     inv = 1.0 / f
     meas = AngleMeasurement(

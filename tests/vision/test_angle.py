@@ -568,6 +568,16 @@ def test_cut_contrast_tells_an_object_cut_off_from_a_finger_cut_in_two():
     assert cut_contrast(img, whole, lit) < 12
 
 
+def test_a_knuckle_just_beyond_the_usual_range_is_not_replaced_by_the_next_joint(tmp_path):
+    # mirrored, this finger's thin distal part puts its width near the tip at half the
+    # finger's and the knuckle at 8.3 of those widths, beyond the range searched: the
+    # best place within it was where the thin part meets the finger, answered sure 33
+    # deg off. The midline splits far better beyond the range: refused, or measured there
+    angle = 37.464357869321965
+    row = _as_saved_photo(tmp_path, angle, 1711792829, "clean", transform=lambda im: im[:, ::-1])
+    assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 1.5, row["angle_deg"]
+
+
 def test_of_two_sure_forearm_colourings_the_one_keeping_more_of_the_finger_wins(tmp_path):
     # taking the colours where the cable leaves the picture cuts off the finger's shaded
     # underside: a narrower tube that measures sure, 22 deg off; the colours where the
