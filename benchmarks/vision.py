@@ -1,7 +1,7 @@
 """Accuracy and speed of flexcal.vision on seeded rendered suites.
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard]
-                                [--details results.csv]
+                                [--details results.csv] [--orientations]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
@@ -9,6 +9,10 @@ over 5 deg), the share whose true angle lies within 2 sigma, and images per seco
 process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
 back, as a user's photos would be. ``--details`` writes one row per render (truth, answer,
 uncertainty, status, reason and the render's nuisances) to find what fails.
+``--orientations`` measures every render also turned by 90, 180 and 270 deg and
+mirrored (suites named ``clean x5`` and so on): the bend is the same, and a method that
+holds in any orientation answers them alike; k-means starts and JPEG blocks differ, so
+this also shows how much an answer hangs on the particular photo.
 """
 
 from __future__ import annotations
@@ -26,19 +30,32 @@ from flexcal.measure import measure_file
 from flexcal.synthetic import render_finger
 
 
-def run_suite(difficulty, n, shape, seed, tmp):
+# the same photo turned and mirrored: the bend is the same (--orientations)
+ORIENTATIONS = {"": None, "r90": cv2.ROTATE_90_CLOCKWISE, "r180": cv2.ROTATE_180,
+                "r270": cv2.ROTATE_90_COUNTERCLOCKWISE, "mirror": "mirror"}
+
+
+def _oriented(img, how):
+    if how is None:
+        return img
+    return np.ascontiguousarray(img[:, ::-1]) if how == "mirror" else cv2.rotate(img, how)
+
+
+def run_suite(difficulty, n, shape, seed, tmp, orientations=False):
     rng = np.random.default_rng(seed)
     files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
         img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None)
-        f = Path(tmp) / f"{difficulty}_{i:04d}.jpg"
-        cv2.imwrite(str(f), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
-        files.append(f)
-        truth.append(a)
         # the truth's angle and vertex under their own names, beside the measured ones
-        params.append({(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v
-                       for k, v in t.as_dict().items()})
+        # (the vertex of the render as drawn, not turned)
+        p = {(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v for k, v in t.as_dict().items()}
+        for name, how in (ORIENTATIONS.items() if orientations else [("", None)]):
+            f = Path(tmp) / f"{difficulty}_{i:04d}{'_' + name if name else ''}.jpg"
+            cv2.imwrite(str(f), _oriented(img, how), [cv2.IMWRITE_JPEG_QUALITY, 90])
+            files.append(f)
+            truth.append(a)
+            params.append({**p, "orientation": name or "as rendered"})
     t0 = time.perf_counter()
     rows = []
     for f in files:
@@ -46,19 +63,19 @@ def run_suite(difficulty, n, shape, seed, tmp):
         rows.append({**row, "image": f.name})
     dt = time.perf_counter() - t0
     details = [{"suite": difficulty, "index": i, **rows[i], "error_deg": rows[i]["angle_deg"] - truth[i],
-                **params[i]} for i in range(n)]
+                **params[i]} for i in range(len(files))]
     got = np.array([r["angle_deg"] for r in rows])
     unc = np.array([r["angle_unc_deg"] for r in rows])
     truth = np.array(truth)
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
-        "suite": difficulty, "n": n,
+        "suite": difficulty + (" x5" if orientations else ""), "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
         "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
         "answered": answered.mean(), "gross>5": int((err > 5).sum()),
         "within2sigma": float(np.mean(err <= 2 * unc[answered])) if err.size else np.nan,
-        "img/s": n / dt, "details": details,
+        "img/s": len(files) / dt, "details": details,
     }
 
 
@@ -69,6 +86,8 @@ def main(argv=None):
     ap.add_argument("--suites", default="clean,realistic,hard")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--details", type=Path, help="write one row per render to this CSV")
+    ap.add_argument("--orientations", action="store_true",
+                    help="also measure each render turned by 90, 180 and 270 deg and mirrored (5 photos each)")
     args = ap.parse_args(argv)
     details = []
     w, h = (int(v) for v in args.size.split("x"))
@@ -77,7 +96,7 @@ def main(argv=None):
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
         for k, suite in enumerate(args.suites.split(",")):
-            r = run_suite(suite, args.n, (h, w), args.seed + k, tmp)
+            r = run_suite(suite, args.n, (h, w), args.seed + k, tmp, args.orientations)
             print(f"{r['suite']:<10} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
             details += r["details"]
