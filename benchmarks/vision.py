@@ -92,12 +92,12 @@ def main(argv=None):
     details = []
     w, h = (int(v) for v in args.size.split("x"))
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}")
-    print(f"{'suite':<10} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
+    print(f"{'suite':<12} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
         for k, suite in enumerate(args.suites.split(",")):
             r = run_suite(suite, args.n, (h, w), args.seed + k, tmp, args.orientations)
-            print(f"{r['suite']:<10} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
+            print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
             details += r["details"]
     if args.details:

@@ -63,6 +63,7 @@ from flexcal.vision.segment import (border_pixels, forearm_clusters, forearm_col
                                     segment_finger)
 
 METHODS = ("auto", "contour", "markers")
+MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 WORK_SIZE = 640            # long side of the working resolution, pixels
 UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
 OK_CONFIDENCE = 0.6
@@ -888,6 +889,7 @@ def _measure_markers(bgr):
         vertex=(float(p[j][0]), float(p[j][1])),
         proximal=Arm(a, va / np.linalg.norm(va), float(np.linalg.norm(va))),
         distal=Arm(b, vb / np.linalg.norm(vb), float(np.linalg.norm(vb))),
+        details=dict(dot_radius_px=float(r)),
     )
 
 
@@ -947,11 +949,13 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
         m = _measure_markers(bgr)
         if m:
             # three round coloured blobs are markers only if they sit on the finger (not a
-            # poster or a pen cap in the background)
+            # poster or a pen cap in the background) and are stickers, not specks (a bit
+            # of the sensor's lead or a highlight between tape and skin)
             segmented = _segment(bgr)
-            mask = segmented[2].mask
+            work, f, seg = segmented
             dots = [m.vertex, tuple(m.proximal.point), tuple(m.distal.point)]
-            if mask is not None and _on_silhouette(mask, segmented[1], dots):
+            if (seg.mask is not None and _on_silhouette(seg.mask, f, dots)
+                    and m.details["dot_radius_px"] * f >= MIN_DOT_TO_ARM * seg.part_radius):
                 return _shift(m, ox, oy)
     return _shift(_measure_contour(bgr, segmented), ox, oy)
 

@@ -152,6 +152,14 @@ def test_round_coloured_things_off_the_finger_are_not_markers():
     assert abs(m.angle_deg - truth.angle_deg) < 2.0
 
 
+def test_specks_on_the_finger_are_not_marker_dots(tmp_path):
+    # turned upside down, this photo (no markers) has three small saturated specks on the
+    # silhouette (bits of the lead, of tape edges) that auto took for marker dots: a
+    # sure 43 deg for a 23 deg bend. Stickers are a third of the finger's thickness
+    row = _as_saved_photo(tmp_path, 23.31534195231147, 651621405, "hard", transform=lambda im: im[::-1, ::-1])
+    assert row["method"] == "contour"
+
+
 def test_an_object_joined_to_the_hand_is_refused_not_measured():
     img, truth = render_finger(60.0, shape=(480, 640), rng=7, difficulty="clean", sensor=False)
     assert measure_angle(img).status == "ok"
