@@ -952,7 +952,7 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
             # poster or a pen cap in the background) and are stickers, not specks (a bit
             # of the sensor's lead or a highlight between tape and skin)
             segmented = _segment(bgr)
-            work, f, seg = segmented
+            _, f, seg = segmented
             dots = [m.vertex, tuple(m.proximal.point), tuple(m.distal.point)]
             if (seg.mask is not None and _on_silhouette(seg.mask, f, dots)
                     and m.details["dot_radius_px"] * f >= MIN_DOT_TO_ARM * seg.part_radius):
