@@ -31,14 +31,11 @@ from flexcal.synthetic import render_finger
 
 
 # the same photo turned and mirrored: the bend is the same (--orientations)
-ORIENTATIONS = {"": None, "r90": cv2.ROTATE_90_CLOCKWISE, "r180": cv2.ROTATE_180,
-                "r270": cv2.ROTATE_90_COUNTERCLOCKWISE, "mirror": "mirror"}
-
-
-def _oriented(img, how):
-    if how is None:
-        return img
-    return np.ascontiguousarray(img[:, ::-1]) if how == "mirror" else cv2.rotate(img, how)
+ORIENTATIONS = {"": lambda im: im,
+                "r90": lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE),
+                "r180": lambda im: cv2.rotate(im, cv2.ROTATE_180),
+                "r270": lambda im: cv2.rotate(im, cv2.ROTATE_90_COUNTERCLOCKWISE),
+                "mirror": lambda im: np.ascontiguousarray(im[:, ::-1])}
 
 
 def run_suite(difficulty, n, shape, seed, tmp, orientations=False):
@@ -50,9 +47,9 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False):
         # the truth's angle and vertex under their own names, beside the measured ones
         # (the vertex of the render as drawn, not turned)
         p = {(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v for k, v in t.as_dict().items()}
-        for name, how in (ORIENTATIONS.items() if orientations else [("", None)]):
+        for name, turn in (ORIENTATIONS.items() if orientations else [("", ORIENTATIONS[""])]):
             f = Path(tmp) / f"{difficulty}_{i:04d}{'_' + name if name else ''}.jpg"
-            cv2.imwrite(str(f), _oriented(img, how), [cv2.IMWRITE_JPEG_QUALITY, 90])
+            cv2.imwrite(str(f), turn(img), [cv2.IMWRITE_JPEG_QUALITY, 90])
             files.append(f)
             truth.append(a)
             params.append({**p, "orientation": name or "as rendered"})

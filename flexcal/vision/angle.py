@@ -408,18 +408,24 @@ def _free_branches(mask, width_px):
     return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
+def _knuckle_far_end(wf, total, widths):
+    """The farthest place (arclength from the tip) the knuckle is sought: ``widths``
+    finger widths, short of where too little hand would be left for its arm."""
+    return min(widths * wf, total - HAND_WIN[1] * wf * 0.6)
+
+
 def _splits_better_beyond(mid, s, wf, total, b, hi):
     """Whether, scored over the long finger's span, the midline (``mid`` at arclengths
     ``s``) splits into two straight arms (``STRAIGHT_TOL``) somewhere between the
     knuckle range's far end ``hi`` and ``LONG_FINGER[0]`` widths from the tip, ten
     times better (``BEYOND_RATIO``) than at the knuckle found, ``b``."""
     step = max(1.0, 0.05 * wf)
-    span_hi = min(total, LONG_FINGER[1] * wf)
-    ext = np.arange(hi + step, min(LONG_FINGER[0] * wf, total - HAND_WIN[1] * wf * 0.6, span_hi - 1.2 * wf), step)
+    ext = np.arange(hi + step, _knuckle_far_end(wf, total, LONG_FINGER[0]), step)
     if not len(ext):
         return False
     both = np.concatenate([[b], ext])
-    sc = _two_line_scores(mid, s, SPAN[0] * wf, span_hi, both - FIN_WIN[0] * wf, both + HAND_WIN[0] * wf)
+    sc = _two_line_scores(mid, s, SPAN[0] * wf, min(total, LONG_FINGER[1] * wf), both - FIN_WIN[0] * wf,
+                          both + HAND_WIN[0] * wf)
     at_b, beyond = sc[0], sc[1:].min()
     return bool(beyond < min((STRAIGHT_TOL * wf) ** 2, BEYOND_RATIO * at_b))
 
@@ -613,7 +619,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
                     "or finger; give an ROI around the finger or move the object", foreign=True)
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
-    lo, hi = KNUCKLE_RANGE[0] * wf, min(k_hi * wf, total - HAND_WIN[1] * wf * 0.6)
+    lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
         return fail("too little of the hand is in the picture to measure its direction", foreign=True)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
