@@ -345,6 +345,7 @@ MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the f
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
+TIP_CUT_W = 1.0          # a piece cut off from the silhouette this near (widths) to its tip: the finger is cut short
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
@@ -406,6 +407,21 @@ def _free_branches(mask, width_px):
     length = np.bincount(comp.ravel(), minlength=n) * q
     ids = comp[ends]
     return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
+
+
+def _cut_short(tip, cut_off, width_px) -> bool:
+    """Whether a piece the silhouette's finishing cut off (``cut_off``, a boolean image)
+    lies within ``TIP_CUT_W`` finger widths (``width_px``) of its tip (x, y).
+
+    A fingertip is the free end of the hand and finger; when more of the same part lies
+    just beyond it, joined by a thin neck, the "tip" is where a band in the background's
+    colours cut the finger, and the silhouette ends short of the real tip: the bend is
+    not in it. (A poster touching the finger by a neck lies beside it, not beyond its end.)
+    """
+    if cut_off is None:
+        return False
+    ys, xs = np.nonzero(cut_off)
+    return bool(len(xs)) and float(np.min((xs - tip[0]) ** 2 + (ys - tip[1]) ** 2)) <= (TIP_CUT_W * width_px) ** 2
 
 
 def _knuckle_far_end(wf, total, widths):
@@ -500,12 +516,12 @@ def _measure_segmentation(work, f, seg):
     silhouette in only the forearm's colours)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
-    m = _measure_silhouette(work, f, seg.mask, seg.contrast)
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
         # its tip's thickness): the arms found within the range then hold the bend and
         # are refused. Look further; taken only when sure and found beyond the range.
-        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True)
+        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=seg.cut_off)
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]:
             m = m2
     # The silhouette may hold more than hand and finger (a box or poster of another
@@ -530,12 +546,12 @@ def _measure_segmentation(work, f, seg):
         need = max(RANK[m.status], RANK["low_confidence"] if m.details.get("foreign") else RANK["ok"])
         for kept in forearm_clusters(seg):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
-                alt = forearm_colours(seg, kept)
+                alt, alt_cut_off = forearm_colours(seg, kept) or (None, None)
                 if alt is not None and not np.array_equal(alt, seg.mask):
                     step = cut_contrast(work, seg.mask, alt)
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
-                    m2 = _measure_silhouette(work, f, alt, seg.contrast)
+                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut_off)
                     key = (RANK[m2.status], int(alt.sum()))
                     if RANK[m2.status] >= need and (best is None or key > best_key):
                         best, best_key = m2, key
@@ -583,8 +599,9 @@ def _free_stretches(contour, shape):
     return starts, lengths
 
 
-def _measure_silhouette(work, f, mask, contrast, long_finger=False):
-    """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the input)."""
+def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None):
+    """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the
+    input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``)."""
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
@@ -615,6 +632,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False):
         m.details.update(finger_width_px=wf / f, foreign=foreign)
         return m
 
+    if _cut_short(side_a[0], cut_off, wf):
+        return fail("the finger seems cut short: a thick piece of it lies just beyond what was taken for its tip, "
+                    "joined only by a thin neck (a band, or the finger's lit side, in the background's colours); "
+                    "photograph against a background of another colour")
     if _free_branches(mask, wf) > 1:
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
                     "or finger; give an ROI around the finger or move the object", foreign=True)

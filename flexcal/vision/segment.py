@@ -46,6 +46,7 @@ class Segmentation:
     centres: np.ndarray | None = None  # the clusters' colour features
     background: np.ndarray | None = None  # per cluster, whether it is background
     shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
+    cut_off: np.ndarray | None = None  # thick pieces of the part the finishing cut off (``_finish``)
 
     @cached_property
     def part_radius(self) -> float:
@@ -284,17 +285,22 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
                             n_candidates=candidates)
     part = (comp == best).astype(np.uint8)
-    filled = _finish(_tip_colours(part, labels, border_full), border_full)
+    filled, cut_off = _finish(_tip_colours(part, labels, border_full), border_full)
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
     bg_centre = centres[np.argmax(share)]
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
-                        centres=centres, background=background, shadow_is_finger=shadow_is_finger)
+                        centres=centres, background=background, shadow_is_finger=shadow_is_finger,
+                        cut_off=cut_off)
 
 
 def _finish(mask, border):
-    """The silhouette from a chosen part: thin attachments off, notches closed, holes filled."""
+    """The silhouette from a chosen part: thin attachments off, notches closed, holes
+    filled. Returns (silhouette, cut_off): ``cut_off`` holds what survived the opening
+    but not in the silhouette, thick pieces joined to it by a thin neck only (a poster
+    touching the finger; or the finger's own end beyond a band, when the band and the
+    finger's lit side are in the background's colours)."""
     # Drop thin attachments (the sensor's lead, wires, a strap's end) by an opening a
     # third as wide as the arm, then keep the piece that still touches the border.
     r = _arm_radius(mask)
@@ -324,7 +330,8 @@ def _finish(mask, border):
         small = stats2[:, cv2.CC_STAT_AREA] < 0.2 * area
         small[0] = False
         holes = small[comp2].astype(np.uint8)
-    return mask | holes
+    mask = mask | holes
+    return mask, (opened > 0) & (mask == 0)
 
 
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
@@ -370,7 +377,8 @@ def other_colours_thickness(seg: Segmentation, kept) -> float:
 
 
 def forearm_colours(seg: Segmentation, kept) -> np.ndarray | None:
-    """The silhouette again, in only the colours ``kept`` (``forearm_clusters``).
+    """The silhouette again, in only the colours ``kept`` (``forearm_clusters``), and
+    what its finishing cut off (``_finish``).
 
     When "everything that is not background" joins the hand to something of another
     colour (a poster, a box, the shadow under the finger), the hand and finger are
