@@ -376,7 +376,7 @@ def other_colours_thickness(seg: Segmentation, kept) -> float:
     return 2.0 * float(cv2.distanceTransform(other, cv2.DIST_L2, 3).max()) if other.any() else 0.0
 
 
-def forearm_colours(seg: Segmentation, kept) -> np.ndarray | None:
+def forearm_colours(seg: Segmentation, kept) -> tuple[np.ndarray, np.ndarray] | None:
     """The silhouette again, in only the colours ``kept`` (``forearm_clusters``), and
     what its finishing cut off (``_finish``).
 
