@@ -61,7 +61,7 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import cut_contrast, inward_normals, skin_edge
-from flexcal.vision.segment import (border_pixels, forearm_clusters, forearm_colours, other_colours_thickness,
+from flexcal.vision.segment import (border_pixels, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger)
 
 METHODS = ("auto", "contour", "markers")
@@ -530,10 +530,12 @@ def _measure_segmentation(work, f, seg):
             m = m2
     # The silhouette may hold more than hand and finger (a box or poster of another
     # colour, the shadow under the finger). When the measurement is not sure, it is
-    # measured again in only the forearm's colours if a piece of the silhouette in other
-    # colours is at least half a finger width thick (thicker than the sensor's strip and
-    # connector, tape or a nail), a quarter when the measurement already found something
-    # besides the hand and finger (it forks, the finger is as wide as the hand, ...);
+    # measured again in only the forearm's colours (its colour clusters, or grown from
+    # its colour to the strongest edges: ``forearm_regions``) if a piece of the
+    # silhouette in other colours is at least half a finger width thick (thicker than the
+    # sensor's strip and connector, tape or a nail), a quarter when the measurement
+    # already found something besides the hand and finger (it forks, the finger is as
+    # wide as the hand, ...);
     # where no such piece exists (two fingers of one colour) the forearm's colours cannot
     # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
     # the forearm's colours would cut it off. When the part leaves the picture in more
@@ -548,9 +550,9 @@ def _measure_segmentation(work, f, seg):
         # not about something joined to the hand (an unsure answer on a silhouette of
         # fewer colours adds a guess to a doubt: a bent second joint stays unsure)
         need = max(RANK[m.status], RANK["low_confidence"] if m.details.get("foreign") else RANK["ok"])
-        for kept in forearm_clusters(seg):
-            if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, kept) >= piece * wf * f):
-                alt, alt_cut_off = forearm_colours(seg, kept) or (None, None)
+        for keep in forearm_regions(seg, work):
+            if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, keep) >= piece * wf * f):
+                alt, alt_cut_off = forearm_colours(seg, keep) or (None, None)
                 if alt is not None and not np.array_equal(alt, seg.mask):
                     step = cut_contrast(work, seg.mask, alt)
                     if step is not None and step < MIN_CUT_CONTRAST:

@@ -11,10 +11,12 @@ clusters of nearly the same colour, are background; what is left is split into
 connected parts and the most finger-like part that touches the border wins. When that
 part crosses the border far more widely than a forearm (a platform joined to the
 hand), only the fingertip's own colours are kept. When a measurement is unsure and a
-thick piece of the part is in other colours than the forearm's (``forearm_clusters``,
-``other_colours_thickness``), ``forearm_colours`` gives it the silhouette again in only
-the colours in which the arm leaves the picture (each place where the part leaves the
-picture is offered as the forearm's when something joined to it reaches the border too).
+thick piece of the part is in other colours than the forearm's
+(``other_colours_thickness``), ``forearm_colours`` gives it the silhouette again in only
+the forearm's colours (``forearm_regions``: the colour clusters in which the arm leaves
+the picture, and the part grown from the arm's own colour up to the strongest colour
+edges; each place where the part leaves the picture is offered as the forearm's when
+something joined to it reaches the border too).
 """
 
 from __future__ import annotations
@@ -31,6 +33,8 @@ _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
+_ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
+_OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
 
 
 @dataclass
@@ -165,11 +169,11 @@ def _free_end(part, border):
     return np.array([r * q + ys[len(ys) // 2], c * q + xs[len(xs) // 2]])
 
 
-def _pieces_in(part, labels, kept, bridge_px):
-    """Connected pieces (n, labels image, stats) of ``part`` in the clusters ``kept``
-    (boolean per cluster), after closing gaps up to about ``bridge_px`` wide (what crosses
-    the arm in other colours: the strip, tape)."""
-    own = (kept[labels] & (part > 0)).astype(np.uint8)
+def _pieces_in(part, keep, bridge_px):
+    """Connected pieces (n, labels image, stats) of ``part`` within ``keep`` (boolean per
+    pixel), after closing gaps up to about ``bridge_px`` wide (what crosses the arm in
+    other colours: the strip, tape)."""
+    own = (keep & (part > 0)).astype(np.uint8)
     d = max(3, int(round(bridge_px)) | 1)
     own = cv2.morphologyEx(own, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))) & part
     n, comp, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
@@ -203,7 +207,7 @@ def _tip_colours(part, labels, border):
         return part
     region = (near <= rho * rho) & (part > 0)
     share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
-    _, comp, _ = _pieces_in(part, labels, share >= 0.1, half)
+    _, comp, _ = _pieces_in(part, (share >= 0.1)[labels], half)
     j = comp[tip[0], tip[1]]
     if j == 0:
         return part
@@ -239,8 +243,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     share = np.bincount(labels_s[border], minlength=k) / n_border
     # k-means may split one surface into clusters of nearly the same colour (vignetting,
     # texture, a gradient of light): such clusters share their border share
-    same = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < _SAME_SURFACE
-    group = same.astype(float) @ share
+    group = _same_surface(centres).astype(float) @ share
     background = group > border_share
     # a cluster with a background cluster's chromaticity but somewhat darker is that
     # background in shadow (a black glove on a grey wall is much darker than any shadow)
@@ -334,51 +337,136 @@ def _finish(mask, border):
     return mask, (opened > 0) & (mask == 0)
 
 
+def _crossing_regions(seg: Segmentation):
+    """The chosen part within an arm's thickness of each place where it crosses the
+    picture's border (runs of the part along the border, gaps of a few pixels joined),
+    the widest crossing first."""
+    part = seg.part
+    border = border_pixels(part.shape)
+    contact = (part.astype(bool) & border).astype(np.uint8)
+    n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
+    for j in sorted(range(1, n), key=lambda j: -stats[j, cv2.CC_STAT_AREA]):
+        crossing = (runs == j) & (contact > 0)
+        near = cv2.distanceTransform((~crossing).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * seg.part_radius
+        region = near & (part > 0)
+        if region.any():
+            yield region
+
+
+def _same_surface(centres):
+    """Per pair of colour clusters, whether they are one surface (nearly the same colour)."""
+    return np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < _SAME_SURFACE
+
+
+def _arm_clusters(seg: Segmentation, region) -> np.ndarray:
+    """The clusters on at least 3 % of ``region``, with the clusters of nearly the same
+    colour (light and shade across the arm); background that the closings took into the
+    part (between the hand and the cable, say) is not the arm's colour."""
+    share = np.bincount(seg.labels[region], minlength=len(seg.centres)) / region.sum()
+    return _same_surface(seg.centres)[share >= 0.03].any(axis=0) & ~seg.background
+
+
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
     """Per colour cluster, whether the arm is in that colour where it leaves the picture;
     one answer for each place where the chosen part crosses the picture's border, the
     widest first, without repeats (empty without a part).
 
     The forearm is taken as the chosen part within an arm's thickness of where it crosses
-    the border; a cluster on at least 3 % of it counts, with the clusters of nearly the
-    same colour (light and shade across the arm). When something joined to the finger
-    (a poster, a box) also reaches the border, which crossing is the forearm's is not
-    known: each is offered, and the caller keeps the one that measures best.
+    the border (``_arm_clusters``). When something joined to the finger (a poster, a box)
+    also reaches the border, which crossing is the forearm's is not known: each is
+    offered, and the caller keeps the one that measures best.
     """
     if seg.part is None:
         return []
-    part, labels = seg.part, seg.labels
-    border = border_pixels(part.shape)
-    r = seg.part_radius
-    # the border crossings: runs of the part along the border, gaps of a few pixels joined
-    contact = (part.astype(bool) & border).astype(np.uint8)
-    n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
-    same = np.linalg.norm(seg.centres[:, None, :] - seg.centres[None, :, :], axis=2) < _SAME_SURFACE
     out = []
-    for j in sorted(range(1, n), key=lambda j: -stats[j, cv2.CC_STAT_AREA]):
-        crossing = (runs == j) & (contact > 0)
-        near = cv2.distanceTransform((~crossing).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * r
-        region = near & (part > 0)
-        if not region.any():
-            continue
-        share = np.bincount(labels[region], minlength=len(seg.centres)) / region.sum()
-        # background that the closings took into the part (between the hand and the
-        # cable, say) is not the arm's colour
-        kept = same[share >= 0.03].any(axis=0) & ~seg.background
+    for region in _crossing_regions(seg):
+        kept = _arm_clusters(seg, region)
         if kept.any() and not any(np.array_equal(kept, k) for k in out):
             out.append(kept)
     return out
 
 
-def other_colours_thickness(seg: Segmentation, kept) -> float:
-    """Thickness (px) of the thickest piece of the chosen part in colours not ``kept``."""
-    other = ((seg.part > 0) & ~kept[seg.labels]).astype(np.uint8)
+def forearm_grown(seg: Segmentation, bgr) -> list[np.ndarray]:
+    """Per place where the chosen part crosses the picture's border (the widest first),
+    the part grown from that arm's own colour up to the strongest colour edges (boolean
+    per pixel; empty without a part).
+
+    Six colour clusters are few for a cluttered wall: a poster behind the finger can share
+    a cluster with the skin, the sensor's lead or the finger's shade, and then the
+    forearm's clusters bring it back. Pixel by pixel instead: the arm's colour is the
+    mean and spread of its main cluster where it leaves the picture (``bgr`` is the
+    working image). Pixels of the part near that colour (and, unless the finger is in
+    the wall's shadow colours, pixels in the arm's clusters whose chromaticity is near
+    it: the finger's shaded side) seed the arm; pixels far from it in colour and in
+    chromaticity (a darker shade of skin is not far), and everything outside the part,
+    seed the rest. A marker watershed on the colour image then divides what is left
+    where the colour changes most: the finger's outline against a poster is a step, its
+    shading a slope.
+    """
+    if seg.part is None:
+        return []
+    part = seg.part > 0
+    h, w = part.shape
+    ys, xs = np.nonzero(part)
+    feats = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0)[ys, xs])
+    chroma = _chromaticity(feats)
+    same = _same_surface(seg.centres)
+    k5 = np.ones((5, 5), np.uint8)
+    outside = cv2.dilate(seg.part.astype(np.uint8), np.ones((7, 7), np.uint8)) == 0
+    out = []
+    for region in _crossing_regions(seg):
+        share = np.bincount(seg.labels[region], minlength=len(seg.centres)).astype(float)
+        share[seg.background] = -1
+        arm = (same[np.argmax(share)] & ~seg.background)[seg.labels[ys, xs]] & region[ys, xs]
+        if arm.sum() < 50:
+            continue
+        d_colour, d_chroma = _mahalanobis2(feats, feats[arm]), _mahalanobis2(chroma, chroma[arm])
+        near_arm = d_colour < _ARM_COLOUR
+        if not seg.shadow_is_finger:
+            near_arm |= _arm_clusters(seg, region)[seg.labels[ys, xs]] & (d_chroma <= _OTHER_COLOUR[1])
+        far = (d_colour > _OTHER_COLOUR[0]) & (d_chroma > _OTHER_COLOUR[1])
+        markers = np.zeros((h, w), np.int32)
+        markers[cv2.morphologyEx(_image_of(far, ys, xs, (h, w)), cv2.MORPH_OPEN, k5) > 0] = 2
+        markers[outside] = 2
+        markers[cv2.erode(_image_of(near_arm, ys, xs, (h, w)), k5) > 0] = 1
+        cv2.watershed(bgr, markers)
+        out.append(markers == 1)
+    return out
+
+
+def _mahalanobis2(x, ref):
+    """Squared Mahalanobis distance of each row of ``x`` to the rows of ``ref`` (their mean
+    and covariance, the latter widened by one feature unit squared against noise-free
+    renders and flat colours)."""
+    d = x - ref.mean(axis=0)
+    icov = np.linalg.inv(np.cov(ref.T) + np.eye(x.shape[1]))
+    return np.einsum("ij,jk,ik->i", d, icov, d)
+
+
+def _image_of(values, ys, xs, shape) -> np.ndarray:
+    """A uint8 image that is 1 at the pixels (ys, xs) whose ``values`` are True."""
+    img = np.zeros(shape, np.uint8)
+    img[ys[values], xs[values]] = 1
+    return img
+
+
+def forearm_regions(seg: Segmentation, bgr) -> list[np.ndarray]:
+    """The arm's own pixels, in the ways there are to tell them (boolean per pixel): in
+    the colour clusters in which it leaves the picture (``forearm_clusters``), then grown
+    from its colour to the strongest edges (``forearm_grown``)."""
+    return [kept[seg.labels] for kept in forearm_clusters(seg)] + forearm_grown(seg, bgr)
+
+
+def other_colours_thickness(seg: Segmentation, keep) -> float:
+    """Thickness (px) of the thickest piece of the chosen part outside ``keep`` (boolean
+    per pixel, ``forearm_regions``)."""
+    other = ((seg.part > 0) & ~keep).astype(np.uint8)
     return 2.0 * float(cv2.distanceTransform(other, cv2.DIST_L2, 3).max()) if other.any() else 0.0
 
 
-def forearm_colours(seg: Segmentation, kept) -> tuple[np.ndarray, np.ndarray] | None:
-    """The silhouette again, in only the colours ``kept`` (``forearm_clusters``), and
-    what its finishing cut off (``_finish``).
+def forearm_colours(seg: Segmentation, keep) -> tuple[np.ndarray, np.ndarray] | None:
+    """The silhouette again, within only the forearm's pixels ``keep`` (``forearm_regions``),
+    and what its finishing cut off (``_finish``).
 
     When "everything that is not background" joins the hand to something of another
     colour (a poster, a box, the shadow under the finger), the hand and finger are
@@ -388,7 +476,7 @@ def forearm_colours(seg: Segmentation, kept) -> tuple[np.ndarray, np.ndarray] | 
     """
     part = seg.part
     border = border_pixels(part.shape)
-    piece = _largest_on_border(*_pieces_in(part, seg.labels, kept, seg.part_radius), border)
+    piece = _largest_on_border(*_pieces_in(part, keep, seg.part_radius), border)
     return None if piece is None else _finish(piece, border)
 
 

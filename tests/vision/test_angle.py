@@ -193,15 +193,20 @@ def test_skin_edge_is_found_under_a_strip_and_tape_is_dropped():
 
 def test_a_silhouette_with_no_facing_midline_where_the_knuckle_is_sought_is_refused():
     # in nine colours this cluttered photo's silhouette had no facing pairs over the
-    # stretch searched for the knuckle, and the search raised an IndexError
-    from flexcal.vision.angle import _measure_segmentation, _segment, _two_line_scores
+    # stretch searched for the knuckle, and the search raised an IndexError. (The arm
+    # grown from its own colour then measures it: 1.9 deg for 2.7.)
+    from flexcal.vision.angle import _measure_segmentation, _measure_silhouette, _segment, _two_line_scores
     from flexcal.vision.segment import segment_finger
     cands = np.arange(100.0, 140.0)
     assert np.isinf(_two_line_scores(np.zeros((0, 2)), np.zeros(0), 0.0, 300.0, cands - 10, cands + 15)).all()
-    img, _ = render_finger(2.6709327157127505, shape=(960, 1280), rng=924267260, difficulty="realistic")
+    angle = 2.6709327157127505
+    img, _ = render_finger(angle, shape=(960, 1280), rng=924267260, difficulty="realistic")
     work, f, _ = _segment(img)
-    m = _measure_segmentation(work, f, segment_finger(work, k=9))
+    nine = segment_finger(work, k=9)
+    m = _measure_silhouette(work, f, nine.mask, nine.contrast, cut_off=nine.cut_off)
     assert m.status == "failed" and m.reason
+    m = _measure_segmentation(work, f, nine)
+    assert m.status == "failed" or abs(m.angle_deg - angle) < 1.5
 
 
 def test_two_line_scores_match_one_fit_per_candidate_and_find_the_bend():
@@ -628,3 +633,32 @@ def test_a_finger_cut_short_by_a_band_is_refused_not_measured_straight(tmp_path)
     # right beyond the silhouette's "tip": the finger is cut short, and that is said
     row = _as_saved_photo(tmp_path, 83.20062408887179, 884762960, "hard")
     assert row["status"] == "failed" and "cut short" in row["reason"]
+
+
+@pytest.mark.parametrize("angle, rng", [(46.40463666061759, 1757889693), (63.76381260098251, 819262446)])
+def test_a_poster_behind_the_fingertip_in_the_arms_colour_clusters_is_split_off_at_its_edge(tmp_path, angle, rng):
+    # cluttered walls: posters behind the fingertip join the silhouette, and in six
+    # colour clusters they share one with the skin, its shade or the sensor's lead, so the
+    # forearm's clusters bring them back (refused: "too little of the hand", "leaves the
+    # picture in 2 places"). Grown from the arm's own colour to the strongest colour edge,
+    # the finger is parted from the poster along its outline
+    _assert_measured(tmp_path, angle, rng, "realistic", tol=1.5)
+
+
+def test_the_arm_grown_from_its_colour_keeps_the_finger_and_leaves_the_wall():
+    # on a plain photo, the silhouette rebuilt from the pixel-wise forearm region is the
+    # first one less the sensor's strip (another colour): nothing of the wall, nearly all
+    # of the hand and finger, and it measures the bend
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    from flexcal.vision.segment import forearm_colours, forearm_grown
+    img, truth = render_finger(40.0, shape=SHAPE, rng=3, difficulty="clean", background="plain")
+    work, f, seg = _segment(img)
+    grown = forearm_grown(seg, work)
+    assert grown, "no place where the arm leaves the picture"
+    alt, cut_off = forearm_colours(seg, grown[0])
+    mask, alt = seg.mask.astype(bool), alt.astype(bool)
+    assert (alt & ~mask).sum() < 0.01 * mask.sum()
+    assert (alt & mask).sum() > 0.85 * mask.sum()
+    m = _measure_silhouette(work, f, alt.astype(np.uint8), seg.contrast, cut_off=cut_off)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - truth.angle_deg) < 1.5
