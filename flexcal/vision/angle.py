@@ -342,7 +342,6 @@ LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger l
 BEYOND_RATIO = 0.1       # straight arms beyond the range, this much straighter (scores) than at the knuckle found: it may be there
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
-RANK = {"failed": 0, "low_confidence": 1, "ok": 2}
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
@@ -539,17 +538,17 @@ def _measure_segmentation(work, f, seg):
     # where no such piece exists (two fingers of one colour) the forearm's colours cannot
     # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
     # the forearm's colours would cut it off. When the part leaves the picture in more
-    # than one place, each is tried as the forearm; of the surest measurements, the one
+    # than one place, each is tried as the forearm; of the sure measurements, the one
     # that keeps the most of the silhouette wins (fewer colours can also cut off the
-    # finger's shaded half, leaving a narrower tube that measures as sure).
-    best, best_key = None, None
+    # finger's shaded half, leaving a narrower tube that measures as sure). Only a sure
+    # answer counts: an unsure answer on a silhouette of fewer colours adds a guess to a
+    # doubt (a bent second joint stays unsure; a dark hand against a dark box has lost
+    # its shaded half, and with a poster parted off measured unsure and 11 deg off).
+    best = None
     if m.status != "ok":
+        # no finger width when the first one was a poster's at the tip (``fail``)
         wf = m.details.get("finger_width_px")
         piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
-        # at least as sure as the first answer; only a sure one when the first doubt was
-        # not about something joined to the hand (an unsure answer on a silhouette of
-        # fewer colours adds a guess to a doubt: a bent second joint stays unsure)
-        need = max(RANK[m.status], RANK["low_confidence"] if m.details.get("foreign") else RANK["ok"])
         for keep in forearm_regions(seg, work):
             if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, keep) >= piece * wf * f):
                 alt, alt_cut_off = forearm_colours(seg, keep) or (None, None)
@@ -558,9 +557,8 @@ def _measure_segmentation(work, f, seg):
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut_off)
-                    key = (RANK[m2.status], int(alt.sum()))
-                    if RANK[m2.status] >= need and (best is None or key > best_key):
-                        best, best_key = m2, key
+                    if m2.status == "ok" and (best is None or alt.sum() > best_area):
+                        best, best_area = m2, alt.sum()
         if best is not None:
             m = best
     if seg.shadow_is_finger and m.status != "ok":
@@ -631,11 +629,13 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if wf < 4:
         return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
 
-    def fail(reason, foreign=False):
-        """A failure that knows the finger's width and whether the silhouette holds
-        something besides the hand and finger (``foreign``)."""
+    def fail(reason, foreign=False, width_known=True):
+        """A failure that knows the finger's width (unless ``width_known`` is False) and
+        whether the silhouette holds something besides the hand and finger (``foreign``)."""
         m = failed(reason, "contour")
-        m.details.update(finger_width_px=wf / f, foreign=foreign)
+        m.details.update(foreign=foreign)
+        if width_known:
+            m.details.update(finger_width_px=wf / f)
         return m
 
     if _cut_short(side_a[0], cut_off, wf):
@@ -648,7 +648,9 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
-        return fail("too little of the hand is in the picture to measure its direction", foreign=True)
+        # (or the "finger" is a poster joined at the fingertip: its width is no finger's)
+        return fail("too little of the hand is in the picture to measure its direction", foreign=True,
+                    width_known=False)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
     # leaves the real bend inside one of the two straight segments.
