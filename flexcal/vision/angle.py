@@ -530,7 +530,8 @@ def _measure_segmentation(work, f, seg):
     # The silhouette may hold more than hand and finger (a box or poster of another
     # colour, the shadow under the finger). When the measurement is not sure, it is
     # measured again in only the forearm's colours (its colour clusters, or grown from
-    # its colour to the strongest edges: ``forearm_regions``) if a piece of the
+    # its colour to the strongest edges: ``forearm_regions``; grown over the whole
+    # picture, always) if a piece of the
     # silhouette in other colours is at least half a finger width thick (thicker than the
     # sensor's strip and connector, tape or a nail), a quarter when the measurement
     # already found something besides the hand and finger (it forks, the finger is as
@@ -549,9 +550,12 @@ def _measure_segmentation(work, f, seg):
         # no finger width when the first one was a poster's at the tip (``fail``)
         wf = m.details.get("finger_width_px")
         piece = MIN_PIECE_WIDTHS * (0.5 if m.details.get("foreign") else 1.0)
-        for keep in forearm_regions(seg, work):
-            if (not m and wf is None) or (wf is not None and other_colours_thickness(seg, keep) >= piece * wf * f):
-                alt, alt_cut_off = forearm_colours(seg, keep) or (None, None)
+        for keep, within in forearm_regions(seg, work):
+            # the arm grown over the whole picture is always worth a try: it may add what
+            # the part lacks (the finger beyond a band, its lit skin in the wall's cluster)
+            thick = within is None or (wf is not None and other_colours_thickness(seg, keep) >= piece * wf * f)
+            if thick or (not m and wf is None):
+                alt, alt_cut_off = forearm_colours(seg, keep, within) or (None, None)
                 if alt is not None and not np.array_equal(alt, seg.mask):
                     step = cut_contrast(work, seg.mask, alt)
                     if step is not None and step < MIN_CUT_CONTRAST:

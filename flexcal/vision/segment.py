@@ -14,9 +14,9 @@ hand), only the fingertip's own colours are kept. When a measurement is unsure a
 thick piece of the part is in other colours than the forearm's
 (``other_colours_thickness``), ``forearm_colours`` gives it the silhouette again in only
 the forearm's colours (``forearm_regions``: the colour clusters in which the arm leaves
-the picture, and the part grown from the arm's own colour up to the strongest colour
-edges; each place where the part leaves the picture is offered as the forearm's when
-something joined to it reaches the border too).
+the picture, and the arm grown from its own colour up to the strongest colour edges,
+within the part and over the whole picture; each place where the part leaves the
+picture is offered as the forearm's when something joined to it reaches the border too).
 """
 
 from __future__ import annotations
@@ -386,30 +386,32 @@ def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
     return out
 
 
-def forearm_grown(seg: Segmentation, bgr) -> list[np.ndarray]:
+def forearm_grown(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray | None]]:
     """Per place where the chosen part crosses the picture's border (the widest first),
-    the part grown from that arm's own colour up to the strongest colour edges (boolean
-    per pixel; empty without a part).
+    the arm grown from its own colour up to the strongest colour edges, twice: within the
+    part, and over the whole picture; as (boolean per pixel, where it may lie: the part,
+    or None for anywhere). Empty without a part.
 
     Six colour clusters are few for a cluttered wall: a poster behind the finger can share
     a cluster with the skin, the sensor's lead or the finger's shade, and then the
-    forearm's clusters bring it back. Pixel by pixel instead: the arm's colour is the
-    mean and spread of its main cluster where it leaves the picture (``bgr`` is the
-    working image). Pixels of the part near that colour (and, unless the finger is in
+    forearm's clusters bring it back; or the finger's lit skin shares one with the wall,
+    and the part ends at the finger's first band. Pixel by pixel instead: the arm's
+    colour is the mean and spread of its main cluster where it leaves the picture
+    (``bgr`` is the working image). Pixels near that colour (and, unless the finger is in
     the wall's shadow colours, pixels in the arm's clusters whose chromaticity is near
     it: the finger's shaded side) seed the arm; pixels far from it in colour and in
-    chromaticity (a darker shade of skin is not far), and everything outside the part,
-    seed the rest. A marker watershed on the colour image then divides what is left
-    where the colour changes most: the finger's outline against a poster is a step, its
-    shading a slope.
+    chromaticity (a darker shade of skin is not far) seed the rest, and so, for the
+    growth within the part, does everything outside it. A marker watershed on the colour
+    image then divides what is left where the colour changes most: the finger's outline
+    against a poster or the wall is a step, its shading a slope.
     """
     if seg.part is None:
         return []
     part = seg.part > 0
     h, w = part.shape
-    ys, xs = np.nonzero(part)
-    feats = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0)[ys, xs])
+    feats = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0))
     chroma = _chromaticity(feats)
+    labels = seg.labels.ravel()
     same = _same_surface(seg.centres)
     k5 = np.ones((5, 5), np.uint8)
     outside = cv2.dilate(seg.part.astype(np.uint8), np.ones((7, 7), np.uint8)) == 0
@@ -417,20 +419,24 @@ def forearm_grown(seg: Segmentation, bgr) -> list[np.ndarray]:
     for region in _crossing_regions(seg):
         share = np.bincount(seg.labels[region], minlength=len(seg.centres)).astype(float)
         share[seg.background] = -1
-        arm = (same[np.argmax(share)] & ~seg.background)[seg.labels[ys, xs]] & region[ys, xs]
+        arm = (same[np.argmax(share)] & ~seg.background)[labels] & region.ravel()
         if arm.sum() < 50:
             continue
         d_colour, d_chroma = _mahalanobis2(feats, feats[arm]), _mahalanobis2(chroma, chroma[arm])
         near_arm = d_colour < _ARM_COLOUR
         if not seg.shadow_is_finger:
-            near_arm |= _arm_clusters(seg, region)[seg.labels[ys, xs]] & (d_chroma <= _OTHER_COLOUR[1])
-        far = (d_colour > _OTHER_COLOUR[0]) & (d_chroma > _OTHER_COLOUR[1])
-        markers = np.zeros((h, w), np.int32)
-        markers[cv2.morphologyEx(_image_of(far, ys, xs, (h, w)), cv2.MORPH_OPEN, k5) > 0] = 2
-        markers[outside] = 2
-        markers[cv2.erode(_image_of(near_arm, ys, xs, (h, w)), k5) > 0] = 1
-        cv2.watershed(bgr, markers)
-        out.append(markers == 1)
+            near_arm |= _arm_clusters(seg, region)[labels] & (d_chroma <= _OTHER_COLOUR[1])
+        near_arm = near_arm.reshape(h, w).astype(np.uint8)
+        far = ((d_colour > _OTHER_COLOUR[0]) & (d_chroma > _OTHER_COLOUR[1])).reshape(h, w).astype(np.uint8)
+        for within in (part, None):
+            domain = np.uint8(1) if within is None else within.astype(np.uint8)
+            markers = np.zeros((h, w), np.int32)
+            markers[cv2.morphologyEx(far & domain, cv2.MORPH_OPEN, k5) > 0] = 2
+            if within is not None:
+                markers[outside] = 2
+            markers[cv2.erode(near_arm & domain, k5) > 0] = 1
+            cv2.watershed(bgr, markers)
+            out.append((markers == 1, within))
     return out
 
 
@@ -443,18 +449,13 @@ def _mahalanobis2(x, ref):
     return np.einsum("ij,jk,ik->i", d, icov, d)
 
 
-def _image_of(values, ys, xs, shape) -> np.ndarray:
-    """A uint8 image that is 1 at the pixels (ys, xs) whose ``values`` are True."""
-    img = np.zeros(shape, np.uint8)
-    img[ys[values], xs[values]] = 1
-    return img
-
-
-def forearm_regions(seg: Segmentation, bgr) -> list[np.ndarray]:
-    """The arm's own pixels, in the ways there are to tell them (boolean per pixel): in
-    the colour clusters in which it leaves the picture (``forearm_clusters``), then grown
-    from its colour to the strongest edges (``forearm_grown``)."""
-    return [kept[seg.labels] for kept in forearm_clusters(seg)] + forearm_grown(seg, bgr)
+def forearm_regions(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    """The arm's own pixels, in the ways there are to tell them, each with where the
+    silhouette rebuilt from them may lie (``forearm_colours``): in the colour clusters in
+    which it leaves the picture (``forearm_clusters``), within the part; then grown from
+    its colour to the strongest edges (``forearm_grown``)."""
+    part = seg.part > 0 if seg.part is not None else None
+    return [(kept[seg.labels], part) for kept in forearm_clusters(seg)] + forearm_grown(seg, bgr)
 
 
 def other_colours_thickness(seg: Segmentation, keep) -> float:
@@ -464,9 +465,10 @@ def other_colours_thickness(seg: Segmentation, keep) -> float:
     return 2.0 * float(cv2.distanceTransform(other, cv2.DIST_L2, 3).max()) if other.any() else 0.0
 
 
-def forearm_colours(seg: Segmentation, keep) -> tuple[np.ndarray, np.ndarray] | None:
-    """The silhouette again, within only the forearm's pixels ``keep`` (``forearm_regions``),
-    and what its finishing cut off (``_finish``).
+def forearm_colours(seg: Segmentation, keep, within=None) -> tuple[np.ndarray, np.ndarray] | None:
+    """The silhouette again, of only the forearm's pixels ``keep`` that lie ``within``
+    (the part; None: anywhere) (``forearm_regions``), and what its finishing cut off
+    (``_finish``).
 
     When "everything that is not background" joins the hand to something of another
     colour (a poster, a box, the shadow under the finger), the hand and finger are
@@ -474,9 +476,9 @@ def forearm_colours(seg: Segmentation, keep) -> tuple[np.ndarray, np.ndarray] | 
     crosses the arm in other colours (strip, tape) and finish the silhouette as usual.
     None when that leaves nothing that still reaches the border.
     """
-    part = seg.part
-    border = border_pixels(part.shape)
-    piece = _largest_on_border(*_pieces_in(part, keep, seg.part_radius), border)
+    domain = np.ones(keep.shape, np.uint8) if within is None else within.astype(np.uint8)
+    border = border_pixels(keep.shape)
+    piece = _largest_on_border(*_pieces_in(domain, keep, seg.part_radius), border)
     return None if piece is None else _finish(piece, border)
 
 

@@ -168,8 +168,15 @@ def test_an_object_joined_to_the_hand_is_refused_not_measured():
     colour = np.median(img[core], axis=0).astype(int).tolist()
     x, y = (int(v) for v in truth.proximal_xy[4])             # on the hand's axis, behind the knuckle
     cv2.line(img, (x, y), (x, y - 150), colour, 18, cv2.LINE_AA)
-    m = measure_angle(img)
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    work, f, seg = _segment(img)
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
     assert m.status == "failed" and "forks" in m.reason
+    # the arm grown from its colour over the picture leaves the rod's blurred sides out,
+    # and the rod (under half a finger wide) then drops as a thin attachment: measuring
+    # that silhouette is fine, being misled by the rod is not
+    m = measure_angle(img)
+    assert m.status == "failed" or abs(m.angle_deg - truth.angle_deg) < 1.5
 
 
 def test_skin_edge_is_found_under_a_strip_and_tape_is_dropped():
@@ -657,19 +664,31 @@ def test_an_unsure_answer_on_the_silhouette_in_the_forearms_colours_does_not_cou
 
 
 def test_the_arm_grown_from_its_colour_keeps_the_finger_and_leaves_the_wall():
-    # on a plain photo, the silhouette rebuilt from the pixel-wise forearm region is the
-    # first one less the sensor's strip (another colour): nothing of the wall, nearly all
-    # of the hand and finger, and it measures the bend
+    # on a plain photo, the silhouette rebuilt from the pixel-wise forearm region, grown
+    # within the part or over the whole picture, is the first one less the sensor's strip
+    # (another colour): nothing of the wall, nearly all of the hand and finger, and it
+    # measures the bend
     from flexcal.vision.angle import _measure_silhouette, _segment
     from flexcal.vision.segment import forearm_colours, forearm_grown
     img, truth = render_finger(40.0, shape=SHAPE, rng=3, difficulty="clean", background="plain")
     work, f, seg = _segment(img)
     grown = forearm_grown(seg, work)
-    assert grown, "no place where the arm leaves the picture"
-    alt, cut_off = forearm_colours(seg, grown[0])
-    mask, alt = seg.mask.astype(bool), alt.astype(bool)
-    assert (alt & ~mask).sum() < 0.01 * mask.sum()
-    assert (alt & mask).sum() > 0.85 * mask.sum()
-    m = _measure_silhouette(work, f, alt.astype(np.uint8), seg.contrast, cut_off=cut_off)
-    assert m.status == "ok", m.reason
-    assert abs(m.angle_deg - truth.angle_deg) < 1.5
+    assert [within is None for _, within in grown] == [False, True], "one crossing, grown two ways"
+    mask = seg.mask.astype(bool)
+    for keep, within in grown:
+        alt, cut_off = forearm_colours(seg, keep, within)
+        alt = alt.astype(bool)
+        assert (alt & ~mask).sum() < 0.01 * mask.sum()
+        assert (alt & mask).sum() > 0.85 * mask.sum()
+        m = _measure_silhouette(work, f, alt.astype(np.uint8), seg.contrast, cut_off=cut_off)
+        assert m.status == "ok", m.reason
+        assert abs(m.angle_deg - truth.angle_deg) < 1.5
+
+
+@pytest.mark.parametrize("angle, rng", [(54.23149151424852, 284666435), (52.364373133001386, 1577787461)])
+def test_a_finger_whose_lit_skin_is_in_the_walls_cluster_is_grown_back_from_the_arm(tmp_path, angle, rng):
+    # cluttered walls: the finger beyond its first tape band shares a colour cluster with
+    # the wall, so the part is the hand and the finger up to the band (or a poster at the
+    # tip widens it): refused. Grown from the arm's own colour over the whole picture,
+    # pixel by pixel, the finger comes back up to its outline against the wall
+    _assert_measured(tmp_path, angle, rng, "realistic", tol=1.5)
