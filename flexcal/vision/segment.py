@@ -35,6 +35,7 @@ _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
 _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
+_GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
 
 
 @dataclass
@@ -444,9 +445,9 @@ def _mahalanobis2(x, ref):
     """Squared Mahalanobis distance of each row of ``x`` to the rows of ``ref`` (their mean
     and covariance, the latter widened by one feature unit squared against noise-free
     renders and flat colours)."""
-    d = x - ref.mean(axis=0)
-    icov = np.linalg.inv(np.cov(ref.T) + np.eye(x.shape[1]))
-    return np.einsum("ij,jk,ik->i", d, icov, d)
+    d = np.ascontiguousarray((x - ref.mean(axis=0)).T)      # one row per feature: fast sums
+    icov = np.linalg.inv(np.cov(ref.T) + np.eye(x.shape[1])).astype(x.dtype)
+    return ((icov @ d) * d).sum(axis=0)
 
 
 def forearm_regions(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray | None]]:
@@ -479,7 +480,9 @@ def forearm_colours(seg: Segmentation, keep, within=None) -> tuple[np.ndarray, n
     domain = np.ones(keep.shape, np.uint8) if within is None else within.astype(np.uint8)
     border = border_pixels(keep.shape)
     piece = _largest_on_border(*_pieces_in(domain, keep, seg.part_radius), border)
-    return None if piece is None else _finish(piece, border)
+    if piece is None or (within is None and _arm_radius(piece) > _GROWN_THICKER * seg.part_radius):
+        return None     # grown into the wall (of a colour close to the skin's): no arm
+    return _finish(piece, border)
 
 
 def _largest_on_border(n, comp, stats, border):

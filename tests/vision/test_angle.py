@@ -692,3 +692,16 @@ def test_a_finger_whose_lit_skin_is_in_the_walls_cluster_is_grown_back_from_the_
     # tip widens it): refused. Grown from the arm's own colour over the whole picture,
     # pixel by pixel, the finger comes back up to its outline against the wall
     _assert_measured(tmp_path, angle, rng, "realistic", tol=1.5)
+
+
+def test_an_arm_grown_into_the_whole_wall_is_no_silhouette():
+    # a wall close to the skin's colour lets the arm grown over the picture flood it; such
+    # a region is no arm (and, covering the whole picture, has no distance to any edge:
+    # the finishing's kernel sizes overflowed)
+    from flexcal.vision.angle import _segment
+    from flexcal.vision.segment import forearm_colours
+    img, _ = render_finger(40.0, shape=SHAPE, rng=3, difficulty="clean", background="plain")
+    _, _, seg = _segment(img)
+    assert forearm_colours(seg, np.ones(seg.part.shape, bool), None) is None
+    wall = ~cv2.dilate(seg.part, np.ones((9, 9), np.uint8)).astype(bool)
+    assert forearm_colours(seg, wall | (seg.part > 0), None) is None
