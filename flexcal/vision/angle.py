@@ -531,13 +531,11 @@ def _measure_segmentation(work, f, seg):
     # colour, the shadow under the finger). When the measurement is not sure, it is
     # measured again in only the forearm's colours (its colour clusters, or grown from
     # its colour to the strongest edges: ``forearm_regions``; grown over the whole
-    # picture, always) if a piece of the
-    # silhouette in other colours is at least half a finger width thick (thicker than the
-    # sensor's strip and connector, tape or a nail), a quarter when the measurement
-    # already found something besides the hand and finger (it forks, the finger is as
-    # wide as the hand, ...);
-    # where no such piece exists (two fingers of one colour) the forearm's colours cannot
-    # help. Not when it is sure: the lit side of a finger can be a colour of its own, and
+    # picture, always) if a piece of the silhouette in other colours is at least half a
+    # finger width thick (thicker than the sensor's strip and connector, tape or a
+    # nail), a quarter when the measurement already found something besides the hand
+    # and finger (it forks, the finger is as wide as the hand, ...); where no such piece
+    # exists (two fingers of one colour) the forearm's colours cannot help. Not when it is sure: the lit side of a finger can be a colour of its own, and
     # the forearm's colours would cut it off. When the part leaves the picture in more
     # than one place, each is tried as the forearm; of the sure measurements, the one
     # that keeps the most of the silhouette wins (fewer colours can also cut off the

@@ -430,12 +430,12 @@ def forearm_grown(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray |
         near_arm = near_arm.reshape(h, w).astype(np.uint8)
         far = ((d_colour > _OTHER_COLOUR[0]) & (d_chroma > _OTHER_COLOUR[1])).reshape(h, w).astype(np.uint8)
         for within in (part, None):
-            domain = np.uint8(1) if within is None else within.astype(np.uint8)
+            arm_seeds, other_seeds = (near_arm, far) if within is None else (near_arm & within, far & within)
             markers = np.zeros((h, w), np.int32)
-            markers[cv2.morphologyEx(far & domain, cv2.MORPH_OPEN, k5) > 0] = 2
+            markers[cv2.morphologyEx(other_seeds, cv2.MORPH_OPEN, k5) > 0] = 2
             if within is not None:
                 markers[outside] = 2
-            markers[cv2.erode(near_arm & domain, k5) > 0] = 1
+            markers[cv2.erode(arm_seeds, k5) > 0] = 1
             cv2.watershed(bgr, markers)
             out.append((markers == 1, within))
     return out
