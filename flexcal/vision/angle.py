@@ -61,7 +61,7 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import cut_contrast, inward_normals, skin_edge
-from flexcal.vision.segment import (border_pixels, forearm_colours, forearm_regions, other_colours_thickness,
+from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger)
 
 METHODS = ("auto", "contour", "markers")
@@ -394,12 +394,15 @@ def _free_branches(mask, width_px):
     """
     q = 2
     small = cv2.resize(mask, (mask.shape[1] // q, mask.shape[0] // q), interpolation=cv2.INTER_AREA) > 0
+    b = box(small)
+    on_edge = border_pixels(small.shape)[b]
+    small = small[b]
     sk = skeletonize(small).astype(np.uint8)
     nb = cv2.filter2D(sk, -1, np.ones((3, 3), np.float32), borderType=cv2.BORDER_CONSTANT) - sk
     ends = (sk > 0) & (nb == 1)
     # the skeleton of an arm cut by the frame stops about half its width short of it:
     # an end near silhouette pixels on the picture's edge is where the arm leaves it
-    cut = small & border_pixels(small.shape)
+    cut = small & on_edge
     m = max(3, int(round(1.5 * width_px / q)))
     ends &= cv2.dilate(cut.astype(np.uint8), np.ones((2 * m + 1, 2 * m + 1), np.uint8)) == 0
     # branches: the skeleton with its junctions (and their neighbours) taken out

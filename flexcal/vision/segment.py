@@ -67,10 +67,15 @@ def colour_features(bgr):
     intensity keeps black, grey and white things apart.
     """
     f = bgr.reshape(-1, 3).astype(np.float32)
-    total = f.sum(axis=1, keepdims=True) + 30.0
-    chroma = f[:, 1:] / total * _CHROMA_SCALE          # g and r shares
-    light = _LIGHT_SCALE * np.log(total / 3.0)
-    return np.hstack([chroma, light])
+    total = f[:, 0] + f[:, 1] + f[:, 2]     # (summing along the short axis is slow)
+    total += 30.0
+    out = np.empty_like(f)
+    for c in (0, 1):                          # g and r shares
+        np.divide(f[:, c + 1], total, out=out[:, c])
+        out[:, c] *= _CHROMA_SCALE
+    np.log(total / 3.0, out=out[:, 2])
+    out[:, 2] *= _LIGHT_SCALE
+    return out
 
 
 def _chromaticity(centres):
@@ -81,8 +86,13 @@ def _chromaticity(centres):
     surface's features drift away from its lit part's. Undone here from the centre's
     intensity, for comparing a darker colour with a lighter one (is it its shadow?).
     """
-    total = 3.0 * np.exp(centres[:, 2] / _LIGHT_SCALE)         # channel sum + 30
-    return centres[:, :2] * (total / np.maximum(total - 30.0, 1.0))[:, None]
+    total = np.exp(centres[:, 2] / _LIGHT_SCALE)
+    total *= 3.0                                                # channel sum + 30
+    undamp = total / np.maximum(total - 30.0, 1.0)
+    out = np.empty((len(centres), 2), centres.dtype)
+    for c in (0, 1):               # column by column: fast for a whole picture's features
+        np.multiply(centres[:, c], undamp, out=out[:, c])
+    return out
 
 
 def _classify(bgr, labels_small, centres):
@@ -111,9 +121,22 @@ def border_pixels(shape):
     return m
 
 
+def box(mask, margin=1):
+    """The bounding box of ``mask``'s non-zero pixels widened by ``margin`` pixels on each
+    side (within the picture), as a pair of slices.
+
+    Morphology, distance transforms and connected pieces reach only so far: done on this
+    box with a margin as wide as their reach, they give what they give on the whole
+    picture, at a fraction of the cost when the mask covers little of it.
+    """
+    x, y, w, h = cv2.boundingRect(mask.astype(np.uint8))
+    return (slice(max(0, y - margin), y + h + margin), slice(max(0, x - margin), x + w + margin))
+
+
 def _arm_radius(part) -> float:
     """Half width of the widest part of a silhouette (95th percentile of its distance transform)."""
     part = part.astype(np.uint8)
+    part = part[box(part)]    # a pixel of background around it is all the transform needs
     return float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
 
 
@@ -174,10 +197,15 @@ def _pieces_in(part, keep, bridge_px):
     """Connected pieces (n, labels image, stats) of ``part`` within ``keep`` (boolean per
     pixel), after closing gaps up to about ``bridge_px`` wide (what crosses the arm in
     other colours: the strip, tape)."""
-    own = (keep & (part > 0)).astype(np.uint8)
     d = max(3, int(round(bridge_px)) | 1)
-    own = cv2.morphologyEx(own, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))) & part
-    n, comp, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
+    own = (keep & (part > 0)).astype(np.uint8)
+    b = box(own, d + 2)
+    own = cv2.morphologyEx(own[b], cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d))) & part[b]
+    n, sub, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
+    comp = np.zeros(part.shape, np.int32)
+    comp[b] = sub
+    stats[:, cv2.CC_STAT_LEFT] += b[1].start
+    stats[:, cv2.CC_STAT_TOP] += b[0].start
     return n, comp, stats
 
 
@@ -194,19 +222,29 @@ def _tip_colours(part, labels, border):
     if contact == 0:
         return part
     tip = _free_end(part, border)
-    dt = cv2.distanceTransform(part, cv2.DIST_L2, 3)
-    yy, xx = np.ogrid[: part.shape[0], : part.shape[1]]
-    near = (yy - tip[0]) ** 2 + (xx - tip[1]) ** 2
+    b = box(part)
+    dt = np.zeros(part.shape, np.float32)
+    dt[b] = cv2.distanceTransform(part[b], cv2.DIST_L2, 3)
+
+    def widest_near_tip(radius):
+        """The largest distance to the background within ``radius`` of the tip."""
+        r = int(np.ceil(radius))
+        y0, x0 = max(0, tip[0] - r), max(0, tip[1] - r)
+        y1, x1 = min(dt.shape[0], tip[0] + r + 1), min(dt.shape[1], tip[1] + r + 1)
+        yy, xx = np.ogrid[y0:y1, x0:x1]
+        return float(dt[y0:y1, x0:x1][(yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= radius * radius].max())
+
     # the finger's half width: the largest inscribed circle a little way in from the
     # tip (not further: the hand may be thicker, or joined to something)
-    half = float(dt[near <= 100].max())
-    half = float(dt[near <= (3 * max(half, 2.0)) ** 2].max())
+    half = widest_near_tip(10)
+    half = widest_near_tip(3 * max(half, 2.0))
     rho = 4.0 * max(half, 2.0)          # the tip's region: about two finger widths
     # the forearm crosses the border over about one arm's thickness (more when it
     # leaves at a slant); much more is something else joined to the hand
     if contact <= 3 * 2 * half:
         return part
-    region = (near <= rho * rho) & (part > 0)
+    yy, xx = np.ogrid[: part.shape[0], : part.shape[1]]
+    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho) & (part > 0)
     share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
     _, comp, _ = _pieces_in(part, (share >= 0.1)[labels], half)
     j = comp[tip[0], tip[1]]
@@ -281,7 +319,9 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
         part = (comp == best).astype(np.uint8)
         r = _arm_radius(part)
         d = max(3, int(round(r)) | 1)
-        bridged = cv2.morphologyEx(fg, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
+        b = box(fg, d + 2)
+        bridged = np.zeros_like(fg)
+        bridged[b] = cv2.morphologyEx(fg[b], cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
         best2, comp2, candidates2 = _pick(bridged, border_full)
         if best2 is not None:
             best, comp, candidates = best2, comp2, candidates2
@@ -309,6 +349,10 @@ def _finish(mask, border):
     # third as wide as the arm, then keep the piece that still touches the border.
     r = _arm_radius(mask)
     rad = max(1, int(round(0.3 * r)))
+    d = max(3, int(round(r)) | 1)
+    # all of it within the closing's reach of the mask
+    b = box(mask, d + 2)
+    shape, mask, border = mask.shape, mask[b], border[b]
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
     piece = _largest_on_border(*cv2.connectedComponentsWithStats(opened, connectivity=8)[:3], border)
@@ -317,7 +361,6 @@ def _finish(mask, border):
     # Close notches narrower than half the arm (tape or a strap in a background colour
     # leaves a waist in the silhouette); the only concave corner this rounds is the
     # crease under the knuckle, which the angle measurement leaves out anyway.
-    d = max(3, int(round(r)) | 1)
     mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
     # fill holes (nail, creases, tape the colour of the background) inside the silhouette:
     # background regions (4-connected) that do not reach the border, each under a fifth of
@@ -335,7 +378,9 @@ def _finish(mask, border):
         small[0] = False
         holes = small[comp2].astype(np.uint8)
     mask = mask | holes
-    return mask, (opened > 0) & (mask == 0)
+    filled, cut_off = np.zeros(shape, np.uint8), np.zeros(shape, bool)
+    filled[b], cut_off[b] = mask, (opened > 0) & (mask == 0)
+    return filled, cut_off
 
 
 def _crossing_regions(seg: Segmentation):
@@ -348,8 +393,10 @@ def _crossing_regions(seg: Segmentation):
     n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
     for j in sorted(range(1, n), key=lambda j: -stats[j, cv2.CC_STAT_AREA]):
         crossing = (runs == j) & (contact > 0)
-        near = cv2.distanceTransform((~crossing).astype(np.uint8), cv2.DIST_L2, 3) <= 2 * seg.part_radius
-        region = near & (part > 0)
+        reach = 2 * seg.part_radius
+        b = box(crossing, int(reach / 0.9) + 2)    # (the 3x3 transform counts a straight step as 0.955 px)
+        region = np.zeros(part.shape, bool)
+        region[b] = (cv2.distanceTransform((~crossing[b]).astype(np.uint8), cv2.DIST_L2, 3) <= reach) & (part[b] > 0)
         if region.any():
             yield region
 
@@ -445,7 +492,10 @@ def _mahalanobis2(x, ref):
     """Squared Mahalanobis distance of each row of ``x`` to the rows of ``ref`` (their mean
     and covariance, the latter widened by one feature unit squared against noise-free
     renders and flat colours)."""
-    d = np.ascontiguousarray((x - ref.mean(axis=0)).T)      # one row per feature: fast sums
+    mean = ref.mean(axis=0)
+    d = np.empty((x.shape[1], len(x)), x.dtype)             # one row per feature: fast sums
+    for c in range(x.shape[1]):
+        np.subtract(x[:, c], mean[c], out=d[c])
     icov = np.linalg.inv(np.cov(ref.T) + np.eye(x.shape[1])).astype(x.dtype)
     return ((icov @ d) * d).sum(axis=0)
 
