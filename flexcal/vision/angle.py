@@ -60,7 +60,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
-from flexcal.vision.edges import cut_contrast, inward_normals, skin_edge
+from flexcal.vision.edges import colour_steps, cut_contrast, inward_normals, skin_edge
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger)
 
@@ -339,7 +339,7 @@ KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths 
 PINNED_W = 0.3           # the best knuckle places all this close (widths) to the range's near end: the bend is below it
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
-BEYOND_RATIO = 0.1       # straight arms beyond the range, this much straighter (scores) than at the knuckle found: it may be there
+BEYOND_RATIO = 0.1       # arms beyond the range this much straighter (scores) than at the knuckle found: it may be there
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
@@ -355,6 +355,7 @@ TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
+MIN_SIDE_STEP = 4.0      # a side whose colour step across it is under this (median, in both arms) is no edge
 
 
 def _kink(pm):
@@ -428,6 +429,27 @@ def _cut_short(tip, cut_off, width_px) -> bool:
         return False
     ys, xs = np.nonzero(cut_off)
     return bool(len(xs)) and float(np.min((xs - tip[0]) ** 2 + (ys - tip[1]) ** 2)) <= (TIP_CUT_W * width_px) ** 2
+
+
+def _stepless_side(work, sides, s, windows) -> bool:
+    """Whether along one side of the silhouette the outline crosses no colour step in any
+    of the arclength ``windows`` (the finger's and the hand's): median ``colour_steps``
+    under ``MIN_SIDE_STEP`` in each. ``sides``: (outline points, their nearest midline
+    point, inward normals) per side; ``s``: the midline's arclengths.
+
+    A silhouette's outline is where the object meets something else, a step in colour
+    (weak for a black glove against a black box, but there). When the skin's lit side is
+    in the background's colours, one side of the silhouette runs along the shading on
+    the skin instead, a slope: parallel to the finger's edge or not, it is not the edge.
+    """
+    blurred = cv2.GaussianBlur(work, (3, 3), 0)
+    for pts, near, normals in sides:
+        steps, at = colour_steps(blurred, pts, normals), s[near]
+        medians = [np.median(steps[(at >= lo) & (at <= hi)]) for lo, hi in windows
+                   if np.sum((at >= lo) & (at <= hi)) >= 8]
+        if medians and max(medians) < MIN_SIDE_STEP:
+            return True
+    return False
 
 
 def _knuckle_far_end(wf, total, widths):
@@ -538,8 +560,9 @@ def _measure_segmentation(work, f, seg):
     # finger width thick (thicker than the sensor's strip and connector, tape or a
     # nail), a quarter when the measurement already found something besides the hand
     # and finger (it forks, the finger is as wide as the hand, ...); where no such piece
-    # exists (two fingers of one colour) the forearm's colours cannot help. Not when it is sure: the lit side of a finger can be a colour of its own, and
-    # the forearm's colours would cut it off. When the part leaves the picture in more
+    # exists (two fingers of one colour) the forearm's colours cannot help. Not when it
+    # is sure: the lit side of a finger can be a colour of its own, and the forearm's
+    # colours would cut it off. When the part leaves the picture in more
     # than one place, each is tried as the forearm; of the sure measurements, the one
     # that keeps the most of the silhouette wins (fewer colours can also cut off the
     # finger's shaded half, leaving a narrower tube that measures as sure). Only a sure
@@ -849,6 +872,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         conf = 0.0
         reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "
                        "the knuckle may lie there (a slender finger)")
+    if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
+                                       (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)]):
+        conf = 0.0
+        reasons.append("along one side of the finger and hand the outline crosses no colour step: it follows the "
+                       "shading on the skin, not the skin's edge (its lit side is in the background's colours)")
     conf = float(np.clip(conf, 0, 1))
     inv = 1.0 / f
     meas = AngleMeasurement(

@@ -120,10 +120,24 @@ def skin_edge(bgr, pts, normals, width_px):
     return pts + normals * shift[:, None], found
 
 
+def colour_steps(blurred, pts, normals, depth=3.0):
+    """The colour step across an outline at each point (x, y): the feature distance
+    between ``depth`` px inwards and outwards along the (unit, inward) normal, on a
+    lightly blurred image (nearest pixels)."""
+    h, w = blurred.shape[:2]
+
+    def sample(d):
+        px = np.clip(np.round(pts[:, 0] + normals[:, 0] * d).astype(int), 0, w - 1)
+        py = np.clip(np.round(pts[:, 1] + normals[:, 1] * d).astype(int), 0, h - 1)
+        return colour_features(blurred[py, px])
+
+    return _distance(sample(depth), sample(-depth))
+
+
 def cut_contrast(bgr, whole, piece, min_px=20):
     """How distinct the outline is that ``piece`` (a silhouette within ``whole``) has
-    inside ``whole``: the median colour step across it, 3 px either side along its
-    normal; None when under ``min_px`` pixels of its outline lie inside ``whole``.
+    inside ``whole``: the median colour step across it (``colour_steps``); None when
+    under ``min_px`` pixels of its outline lie inside ``whole``.
 
     When fewer colours cut an object off the silhouette, the new outline is where the
     object's colour meets the finger's: a step. Where they cut the finger itself (its
@@ -138,12 +152,5 @@ def cut_contrast(bgr, whole, piece, min_px=20):
     gy, gx = np.gradient(cv2.GaussianBlur(m.astype(np.float32), (7, 7), 2))
     n = np.column_stack([gx[ys, xs], gy[ys, xs]])
     n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-9          # into the piece
-    blurred = cv2.GaussianBlur(bgr, (3, 3), 0)
-    h, w = m.shape
-
-    def sample(depth):
-        px = np.clip(np.round(xs + n[:, 0] * depth).astype(int), 0, w - 1)
-        py = np.clip(np.round(ys + n[:, 1] * depth).astype(int), 0, h - 1)
-        return colour_features(blurred[py, px])
-
-    return float(np.median(_distance(sample(3.0), sample(-3.0))))
+    steps = colour_steps(cv2.GaussianBlur(bgr, (3, 3), 0), np.column_stack([xs, ys]).astype(float), n)
+    return float(np.median(steps))
