@@ -355,7 +355,7 @@ TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
-MIN_SIDE_STEP = 4.0      # a side whose colour step across it is under this (median, in both arms) is no edge
+MIN_SIDE_STEP = 3.0      # a side of an arm whose colour step across it is under this (median) is no edge
 
 
 def _kink(pm):
@@ -432,23 +432,23 @@ def _cut_short(tip, cut_off, width_px) -> bool:
 
 
 def _stepless_side(work, sides, s, windows) -> bool:
-    """Whether along one side of the silhouette the outline crosses no colour step in any
-    of the arclength ``windows`` (the finger's and the hand's): median ``colour_steps``
-    under ``MIN_SIDE_STEP`` in each. ``sides``: (outline points, their nearest midline
-    point, inward normals) per side; ``s``: the midline's arclengths.
+    """Whether the outline crosses no colour step along one side of an arm: the median
+    ``colour_steps`` under ``MIN_SIDE_STEP`` on a side within one of the arclength
+    ``windows`` (the finger's and the hand's). ``sides``: (outline points, their nearest
+    midline point, inward normals) per side; ``s``: the midline's arclengths.
 
     A silhouette's outline is where the object meets something else, a step in colour
     (weak for a black glove against a black box, but there). When the skin's lit side is
-    in the background's colours, one side of the silhouette runs along the shading on
+    in the background's colours, that side of the silhouette runs along the shading on
     the skin instead, a slope: parallel to the finger's edge or not, it is not the edge.
     """
     blurred = cv2.GaussianBlur(work, (3, 3), 0)
     for pts, near, normals in sides:
         steps, at = colour_steps(blurred, pts, normals), s[near]
-        medians = [np.median(steps[(at >= lo) & (at <= hi)]) for lo, hi in windows
-                   if np.sum((at >= lo) & (at <= hi)) >= 8]
-        if medians and max(medians) < MIN_SIDE_STEP:
-            return True
+        for lo, hi in windows:
+            inside = (at >= lo) & (at <= hi)
+            if inside.sum() >= 8 and np.median(steps[inside]) < MIN_SIDE_STEP:
+                return True
     return False
 
 
@@ -875,8 +875,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
                                        (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)]):
         conf = 0.0
-        reasons.append("along one side of the finger and hand the outline crosses no colour step: it follows the "
-                       "shading on the skin, not the skin's edge (its lit side is in the background's colours)")
+        reasons.append("along one side of an arm the outline crosses no colour step: it follows the shading on "
+                       "the skin, not the skin's edge (its lit side is in the background's colours)")
     conf = float(np.clip(conf, 0, 1))
     inv = 1.0 / f
     meas = AngleMeasurement(
