@@ -1,0 +1,49 @@
+import cv2
+import numpy as np
+import pytest
+
+from flexcal.vision.segment import _arm_radius, _pieces_in, close_ellipse
+
+
+def _blobs(rng, shape):
+    """A 0/1 mask of a few thick random blobs, some cut by the picture's edge."""
+    m = np.zeros(shape, np.uint8)
+    h, w = shape
+    for _ in range(rng.integers(1, 5)):
+        cx, cy = int(rng.integers(-w // 4, w + w // 4)), int(rng.integers(-h // 4, h + h // 4))
+        axes = (int(rng.integers(2, max(3, w // 2))), int(rng.integers(2, max(3, h // 2))))
+        cv2.ellipse(m, (cx, cy), axes, float(rng.uniform(0, 180)), 0, 360, 1, -1)
+    m[rng.random(shape) < 0.02] ^= 1     # pinholes and specks
+    return m
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_close_ellipse_is_opencvs_closing(seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(25):
+        shape = tuple(int(v) for v in rng.integers(5, 200, 2))
+        mask = _blobs(rng, shape)
+        d = int(rng.integers(1, 45)) * 2 + 1
+        want = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)))
+        assert np.array_equal(close_ellipse(mask, d), want), (shape, d)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_work_on_the_masks_box_gives_the_whole_pictures_answer(seed):
+    # the distance transform and the bridging closing are done on the mask's bounding
+    # box (and their reach around it); the answer is the whole picture's
+    rng = np.random.default_rng(100 + seed)
+    for _ in range(10):
+        part = _blobs(rng, (240, 320))
+        if not part.any():
+            continue
+        dt = cv2.distanceTransform(part, cv2.DIST_L2, 3)
+        assert _arm_radius(part) == float(np.percentile(dt[part > 0], 95))
+        keep = _blobs(rng, part.shape) > 0     # the forearm's colours: some of the part
+        bridge = float(rng.uniform(2, 30))
+        k = max(3, int(round(bridge)) | 1)
+        own = cv2.morphologyEx((keep & (part > 0)).astype(np.uint8), cv2.MORPH_CLOSE,
+                               cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))) & part
+        n, comp, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
+        n2, comp2, stats2 = _pieces_in(part, keep, bridge)
+        assert n2 == n and np.array_equal(comp2, comp) and np.array_equal(stats2[1:], stats[1:])
