@@ -355,6 +355,7 @@ TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
+MAX_BEND_DEG = 120.0     # no knuckle bends further (flexion reaches about 90-100 deg)
 MIN_SIDE_STEP = 3.0      # a side of an arm whose colour step across it is under this (median) is no edge
 
 
@@ -872,6 +873,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         conf = 0.0
         reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "
                        "the knuckle may lie there (a slender finger)")
+    if angle > MAX_BEND_DEG:
+        conf = 0.0
+        reasons.append(f"a bend of {angle:.0f} deg is beyond any knuckle's range: the arms found are not the "
+                       "finger's and the hand's")
     if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
                                        (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)]):
         conf = 0.0

@@ -716,6 +716,14 @@ def test_a_finger_whose_lit_side_is_in_the_walls_colour_is_measured_on_its_whole
     _assert_measured(tmp_path, angle, rng, difficulty, tol=1.0)
 
 
+def test_a_bend_beyond_any_knuckles_range_is_not_answered(tmp_path):
+    # a purple glove beside posters, the photo turned by 90 deg: the arms found were not
+    # the finger's and the hand's, and met at 154 deg (sure) for a 17 deg bend
+    row = _as_saved_photo(tmp_path, 17.160138862129322, 1966244999, "hard",
+                          transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_COUNTERCLOCKWISE))
+    assert row["status"] == "failed" or abs(row["angle_deg"] - 17.160138862129322) < 5, row
+
+
 def test_an_arm_grown_into_the_whole_wall_is_no_silhouette():
     # a wall close to the skin's colour lets the arm grown over the picture flood it; such
     # a region is no arm (and, covering the whole picture, has no distance to any edge:
