@@ -30,6 +30,8 @@ from flexcal.measure import measure_file
 from flexcal.synthetic import render_finger
 
 
+SUITES = ("clean", "realistic", "hard")
+
 # the same photo turned and mirrored: the bend is the same (--orientations)
 ORIENTATIONS = {"": lambda im: im,
                 "r90": lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE),
@@ -80,7 +82,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100)
     ap.add_argument("--size", default="1280x960")
-    ap.add_argument("--suites", default="clean,realistic,hard")
+    ap.add_argument("--suites", default=",".join(SUITES),
+                    help="comma-separated; each suite renders the same photos whichever others are run")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--details", type=Path, help="write one row per render to this CSV")
     ap.add_argument("--orientations", action="store_true",
@@ -92,8 +95,11 @@ def main(argv=None):
     print(f"{'suite':<12} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
-        for k, suite in enumerate(args.suites.split(",")):
-            r = run_suite(suite, args.n, (h, w), args.seed + k, tmp, args.orientations)
+        for suite in args.suites.split(","):
+            if suite not in SUITES:
+                ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
+            # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
+            r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations)
             print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
             details += r["details"]
