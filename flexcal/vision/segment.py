@@ -298,9 +298,10 @@ def _foreground(labels, background):
 def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, seed: int = 0) -> Segmentation:
     """Segment the hand and finger in a BGR uint8 image (working resolution)."""
     h, w = bgr.shape[:2]
-    small_w = 160
-    f = small_w / w
-    small = cv2.resize(bgr, (small_w, max(8, int(round(h * f)))), interpolation=cv2.INTER_AREA)
+    # colours are clustered on a thumbnail 160 px on its long side: the same thumbnail,
+    # turned, for a photo turned by 90 deg
+    f = 160 / max(h, w)
+    small = cv2.resize(bgr, (max(8, int(round(w * f))), max(8, int(round(h * f)))), interpolation=cv2.INTER_AREA)
     feats = colour_features(small)
     if small.std() < 2.0:
         return Segmentation(None, "the picture has no contrast (blank, all black or all white)")
