@@ -35,10 +35,12 @@ When the measurement is not sure and a thick piece of the silhouette is in other
 colours than the forearm's (at least a quarter of a finger width when the silhouette
 forks, the part taken for the finger is as wide as the hand or the hand wider than a
 hand; half otherwise), it is measured again in only the forearm's own colours (a box or
-poster of another colour joined to the finger drops out; an unsure answer counts only
-when the first doubt was about something joined to the hand); if that does not give an
-answer, it refuses rather than guess. Its confidence drops when an arm bends inside
-its window. An unsure photo is segmented again in finer colours (nine clusters, not
+poster of another colour joined to the finger drops out; only a sure answer there
+counts); if that does not give an answer, it refuses rather than guess. Its confidence
+drops when an arm bends inside its window; there is no answer from a silhouette whose
+outline crosses no colour step along one side of an arm (that side follows the shading
+on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
+tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is segmented again in finer colours (nine clusters, not
 six: posters on the wall use clusters up); a sure answer on that silhouette counts when
 it mostly agrees with the first (intersection over union at least 0.85).
 
