@@ -40,9 +40,10 @@ counts); if that does not give an answer, it refuses rather than guess. Its conf
 drops when an arm bends inside its window; there is no answer from a silhouette whose
 outline crosses no colour step along one side of an arm (that side follows the shading
 on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
-tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is segmented again in finer colours (nine clusters, not
-six: posters on the wall use clusters up); a sure answer on that silhouette counts when
-it mostly agrees with the first (intersection over union at least 0.85).
+tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
+segmented again in finer colours (nine clusters, not six: posters on the wall use
+clusters up); a sure answer on that silhouette counts when it mostly agrees with the
+first (intersection over union at least 0.85).
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within

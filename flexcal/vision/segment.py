@@ -58,6 +58,12 @@ class Segmentation:
         """Half width of the widest part of the chosen part (``_arm_radius``), computed once."""
         return _arm_radius(self.part)
 
+    @cached_property
+    def crossings(self) -> list[np.ndarray]:
+        """The part near each place where it crosses the picture's border, the widest
+        first (``_crossing_regions``), computed once for all the forearm's alternatives."""
+        return list(_crossing_regions(self))
+
 
 def colour_features(bgr):
     """Per-pixel colour features that shading and shadows barely change.
@@ -423,9 +429,9 @@ def _crossing_regions(seg: Segmentation):
     border = border_pixels(part.shape)
     contact = (part.astype(bool) & border).astype(np.uint8)
     n, runs, stats, _ = cv2.connectedComponentsWithStats(cv2.dilate(contact, np.ones((5, 5), np.uint8)), connectivity=8)
+    reach = 2 * seg.part_radius
     for j in sorted(range(1, n), key=lambda j: -stats[j, cv2.CC_STAT_AREA]):
         crossing = (runs == j) & (contact > 0)
-        reach = 2 * seg.part_radius
         b = box(crossing, int(reach / 0.9) + 2)    # (the 3x3 transform counts a straight step as 0.955 px)
         region = np.zeros(part.shape, bool)
         region[b] = (cv2.distanceTransform((~crossing[b]).astype(np.uint8), cv2.DIST_L2, 3) <= reach) & (part[b] > 0)
@@ -459,7 +465,7 @@ def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
     if seg.part is None:
         return []
     out = []
-    for region in _crossing_regions(seg):
+    for region in seg.crossings:
         kept = _arm_clusters(seg, region)
         if kept.any() and not any(np.array_equal(kept, k) for k in out):
             out.append(kept)
@@ -496,7 +502,7 @@ def forearm_grown(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray |
     k5 = np.ones((5, 5), np.uint8)
     outside = cv2.dilate(seg.part.astype(np.uint8), np.ones((7, 7), np.uint8)) == 0
     out = []
-    for region in _crossing_regions(seg):
+    for region in seg.crossings:
         share = np.bincount(seg.labels[region], minlength=len(seg.centres)).astype(float)
         share[seg.background] = -1
         arm = (same[np.argmax(share)] & ~seg.background)[labels] & region.ravel()
