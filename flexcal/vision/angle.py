@@ -5,8 +5,9 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 1. segment the hand-and-finger silhouette (``segment.py``);
 2. walk its outline from the fingertip (the outline point farthest from where the
    hand leaves the picture) back to the picture's edge, along both sides (refused when
-   a thick piece of the part that the finishing cut off lies within a finger width of
-   that tip: the finger was cut short at a band, and its bend is not in the silhouette);
+   a thick piece that the finishing cut off, or a thick piece in the fingertip's
+   colours apart from the silhouette, lies within a finger width ahead of that tip: the
+   finger was cut short at a band, and its bend is not in the silhouette);
 3. pair each point of one side with the nearest point of the other: the midpoints are
    the finger's and hand's midline, their distances the local width (the finger's
    width is taken near the tip; where the tip is narrower than the finger behind it,
@@ -349,7 +350,7 @@ MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the f
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
-TIP_CUT_W = 1.0          # a piece cut off from the silhouette this near (widths) to its tip: the finger is cut short
+TIP_CUT_W = 1.0          # a piece apart from the silhouette this near (widths) ahead of its tip: the finger is cut short
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
@@ -418,21 +419,28 @@ def _free_branches(mask, width_px):
     return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
-def _cut_short(tip, cut_off, width_px) -> bool:
-    """Whether a piece the silhouette's finishing cut off (``cut_off``, a boolean image)
-    lies within ``TIP_CUT_W`` finger widths (``width_px``) of its tip (x, y).
+def _cut_short(tip, ahead, cut_off, width_px) -> bool:
+    """Whether a thick piece apart from the silhouette (``cut_off``, a boolean image:
+    what its finishing cut off, and loose pieces in the fingertip's colours,
+    ``Segmentation.cut_off_from``) lies within ``TIP_CUT_W`` finger widths
+    (``width_px``) of its tip (x, y), ahead of it (within 45 deg of ``ahead``, a unit
+    vector from the finger towards its tip).
 
-    A fingertip is the free end of the hand and finger; when more of the same part lies
-    just beyond it, joined by a thin neck, the "tip" is where a band in the background's
-    colours cut the finger, and the silhouette ends short of the real tip: the bend is
-    not in it. (A poster joined to the fingertip by a neck would be refused too; in the
-    benchmark's 600 renders no cut-off piece but that one finger's end lay within three
-    widths of an answered silhouette's tip.)
+    A fingertip is the free end of the hand and finger; when more of the finger lies
+    just beyond it, joined by a thin neck or not at all, the "tip" is where a band in the
+    background's colours cut the finger, and the silhouette ends short of the real tip:
+    the bend is not in it (a stub of the hand measures sure and straight). (A poster
+    joined to the fingertip by a neck would be refused too; in the benchmark's 600
+    renders no cut-off piece but that one finger's end lay within three widths of an
+    answered silhouette's tip.) A neighbouring finger lies beside the tip, not ahead.
     """
     if cut_off is None:
         return False
     ys, xs = np.nonzero(cut_off)
-    return bool(len(xs)) and float(np.min((xs - tip[0]) ** 2 + (ys - tip[1]) ** 2)) <= (TIP_CUT_W * width_px) ** 2
+    dx, dy = xs - tip[0], ys - tip[1]
+    r2 = dx ** 2 + dy ** 2
+    along = dx * ahead[0] + dy * ahead[1]
+    return bool(np.any((r2 <= (TIP_CUT_W * width_px) ** 2) & (along >= np.sqrt(0.5 * r2))))
 
 
 def _stepless_side(work, sides, s, windows) -> bool:
@@ -548,12 +556,13 @@ def _measure_segmentation(work, f, seg):
     silhouette in only the forearm's colours)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
-    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
+    cut_off = seg.cut_off_from(seg.mask, seg.cut_off)
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
         # its tip's thickness): the arms found within the range then hold the bend and
         # are refused. Look further; taken only when sure and found beyond the range.
-        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=seg.cut_off)
+        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]:
             m = m2
     # The silhouette may hold more than hand and finger (a box or poster of another
@@ -588,7 +597,7 @@ def _measure_segmentation(work, f, seg):
                     step = cut_contrast(work, seg.mask, alt)
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
-                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut_off)
+                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=seg.cut_off_from(alt, alt_cut_off))
                     if m2.status == "ok" and (best is None or alt.sum() > best_area):
                         best, best_area = m2, alt.sum()
         if best is not None:
@@ -670,10 +679,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             m.details.update(finger_width_px=wf / f)
         return m
 
-    if _cut_short(side_a[0], cut_off, wf):
+    ahead = side_a[0] - mid[np.argmin(np.abs(s - 1.5 * wf))]    # from the finger towards its tip
+    if _cut_short(side_a[0], ahead / max(1e-9, np.linalg.norm(ahead)), cut_off, wf):
         return fail("the finger seems cut short: a thick piece of it lies just beyond what was taken for its tip, "
-                    "joined only by a thin neck (a band, or the finger's lit side, in the background's colours); "
-                    "photograph against a background of another colour")
+                    "joined by a thin neck or not at all (a band, or the finger's lit side, in the background's "
+                    "colours); photograph against a background of another colour")
     if _free_branches(mask, wf) > 1:
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
                     "or finger; give an ROI around the finger or move the object", foreign=True)

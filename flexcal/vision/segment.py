@@ -52,11 +52,22 @@ class Segmentation:
     background: np.ndarray | None = None  # per cluster, whether it is background
     shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
     cut_off: np.ndarray | None = None  # thick pieces of the part the finishing cut off (``_finish``)
+    loose: np.ndarray | None = None  # thick pieces in the fingertip's colours apart from the part (``_loose_pieces``)
 
     @cached_property
     def part_radius(self) -> float:
         """Half width of the widest part of the chosen part (``_arm_radius``), computed once."""
         return _arm_radius(self.part)
+
+    def cut_off_from(self, mask, cut_off) -> np.ndarray | None:
+        """Thick pieces apart from the silhouette ``mask`` (this segmentation's, or one
+        rebuilt from it): what its finishing cut off (``cut_off``, or None) and the loose
+        pieces (``loose``) that do not touch it."""
+        if self.loose is None:
+            return cut_off
+        touching = np.unique(self.loose[cv2.dilate(mask.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0])
+        apart = (self.loose > 0) & ~np.isin(self.loose, touching)
+        return apart if cut_off is None else (apart | cut_off)
 
     @cached_property
     def crossings(self) -> list[np.ndarray]:
@@ -246,18 +257,10 @@ def _pieces_in(part, keep, bridge_px):
     return n, comp, stats
 
 
-def _tip_colours(part, labels, border):
-    """The part of ``part`` in the fingertip's own colours, when ``part`` is more than a tube.
-
-    A platform's face or a patch of wall in a colour of its own can join the hand where
-    they touch, giving one part that meets the picture's border over far more than a
-    forearm's thickness. The free end is still the fingertip: keep the colours found
-    near it (skin, nail, glove), bridge what crosses the arm in other colours (strip,
-    tape), and take the piece that holds the tip, if it still leaves the picture.
-    """
-    contact = int((part & border).sum())
-    if contact == 0:
-        return part
+def _fingertip(part, border):
+    """The part's free end (row, col) (``_free_end``) and the finger's half width there:
+    the largest inscribed circle a little way in from the tip (not further: the hand may
+    be thicker, or joined to something)."""
     tip = _free_end(part, border)
     b = box(part)
     dt = np.zeros(part.shape, np.float32)
@@ -271,24 +274,73 @@ def _tip_colours(part, labels, border):
         yy, xx = np.ogrid[y0:y1, x0:x1]
         return float(dt[y0:y1, x0:x1][(yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= radius * radius].max())
 
-    # the finger's half width: the largest inscribed circle a little way in from the
-    # tip (not further: the hand may be thicker, or joined to something)
     half = widest_near_tip(10)
-    half = widest_near_tip(3 * max(half, 2.0))
-    rho = 4.0 * max(half, 2.0)          # the tip's region: about two finger widths
+    return tip, widest_near_tip(3 * max(half, 2.0))
+
+
+def _tip_shares(part, labels, tip, half, k):
+    """The share of each of the ``k`` colour clusters in the part within about two finger
+    widths (``half``: the finger's half width) of the tip: the fingertip's colours."""
+    rho = 4.0 * max(half, 2.0)
+    r = int(np.ceil(rho))
+    y0, x0 = max(0, tip[0] - r), max(0, tip[1] - r)
+    yy, xx = np.ogrid[y0:tip[0] + r + 1, x0:tip[1] + r + 1]
+    win = (slice(y0, tip[0] + r + 1), slice(x0, tip[1] + r + 1))
+    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho)[:part[win].shape[0], :part[win].shape[1]] & (part[win] > 0)
+    return np.bincount(labels[win][region], minlength=k) / max(1, region.sum())
+
+
+def _tip_colours(part, labels, border, tip, half, tip_clusters):
+    """The part of ``part`` in the fingertip's own colours (``tip_clusters``: boolean per
+    colour cluster), when ``part`` is more than a tube (``tip``, ``half``: ``_fingertip``).
+
+    A platform's face or a patch of wall in a colour of its own can join the hand where
+    they touch, giving one part that meets the picture's border over far more than a
+    forearm's thickness. The free end is still the fingertip: keep the colours found
+    near it (skin, nail, glove), bridge what crosses the arm in other colours (strip,
+    tape), and take the piece that holds the tip, if it still leaves the picture.
+    """
     # the forearm crosses the border over about one arm's thickness (more when it
     # leaves at a slant); much more is something else joined to the hand
-    if contact <= 3 * 2 * half:
+    if int((part & border).sum()) <= 3 * 2 * half:
         return part
-    yy, xx = np.ogrid[: part.shape[0], : part.shape[1]]
-    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho) & (part > 0)
-    share = np.bincount(labels[region], minlength=labels.max() + 1) / max(1, region.sum())
-    _, comp, _ = _pieces_in(part, (share >= 0.1)[labels], half)
+    _, comp, _ = _pieces_in(part, tip_clusters[labels], half)
     j = comp[tip[0], tip[1]]
     if j == 0:
         return part
     piece = (comp == j).astype(np.uint8)
     return piece if (piece & border).any() else part
+
+
+def _loose_pieces(fg, part, labels, tip_clusters, half):
+    """Pieces of the foreground ``fg`` in the fingertip's colours (``tip_clusters``:
+    boolean per colour cluster), at least half a finger width thick (``half``: its half
+    width), within two widths of the part but apart from it, as a labels image (0: none);
+    None when there is none.
+
+    The rest of the finger beyond a band in the background's colours is such a piece;
+    so is a neighbouring finger (``angle._cut_short`` looks only ahead of the tip).
+    """
+    b = box(part, int(4 * max(half, 2.0)) + 2)
+    own = fg[b] & tip_clusters.astype(np.uint8)[labels[b]]
+    n, comp = cv2.connectedComponents(own, connectivity=8)
+    apart = np.ones(n, bool)
+    apart[comp[cv2.dilate(part[b], np.ones((3, 3), np.uint8)) > 0]] = False
+    apart[0] = False
+    if not apart.any():
+        return None
+    # (the distance transform of the pieces apart alone, on their box: their pixels'
+    # nearest background is the same as among all the pieces)
+    pieces = apart[comp]
+    b2 = box(pieces)
+    thick = cv2.distanceTransform(pieces[b2].astype(np.uint8), cv2.DIST_L2, 3) >= 0.5 * half
+    keep = np.zeros(n, bool)
+    keep[comp[b2][thick]] = True
+    if not keep.any():
+        return None
+    loose = np.zeros(part.shape, np.int32)
+    loose[b] = np.where(keep[comp], comp, 0)
+    return loose
 
 
 def _foreground(labels, background):
@@ -367,14 +419,16 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
         return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
                             n_candidates=candidates)
     part = (comp == best).astype(np.uint8)
-    filled, cut_off = _finish(_tip_colours(part, labels, border_full), border_full)
+    tip, half = _fingertip(part, border_full)
+    tip_clusters = _tip_shares(part, labels, tip, half, k) >= 0.1
+    filled, cut_off = _finish(_tip_colours(part, labels, border_full, tip, half, tip_clusters), border_full)
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
     bg_centre = centres[np.argmax(share)]
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
                         centres=centres, background=background, shadow_is_finger=shadow_is_finger,
-                        cut_off=cut_off)
+                        cut_off=cut_off, loose=_loose_pieces(fg, part, labels, tip_clusters, half))
 
 
 def _finish(mask, border):

@@ -642,6 +642,31 @@ def test_a_finger_cut_short_by_a_band_is_refused_not_measured_straight(tmp_path)
     assert row["status"] == "failed" and "cut short" in row["reason"]
 
 
+def test_a_piece_counts_as_cut_off_the_tip_only_ahead_of_it():
+    from flexcal.vision.angle import _cut_short
+    tip, ahead, wf = (100.0, 100.0), (1.0, 0.0), 20.0
+    for (x0, y0), want in [((112, 95), True),      # just beyond the tip
+                           ((112, 108), True),     # ahead, 34 deg off the axis
+                           ((100, 114), False),    # beside it: a neighbouring finger
+                           ((80, 95), False),      # behind it
+                           ((125, 95), False)]:    # more than a width away
+        piece = np.zeros((200, 200), bool)
+        piece[y0:y0 + 10, x0:x0 + 10] = True
+        assert _cut_short(tip, ahead, piece, wf) == want, (x0, y0)
+
+
+@pytest.mark.parametrize("angle, rng, turn", [(65.98032071996897, 986882917, cv2.ROTATE_180),
+                                              (50.51187431985993, 919609400, cv2.ROTATE_90_CLOCKWISE),
+                                              (33.19608453318753, 1604659906, cv2.ROTATE_90_COUNTERCLOCKWISE)])
+def test_a_stub_of_the_hand_cut_at_a_band_is_not_measured_straight(tmp_path, angle, rng, turn):
+    # turned photos whose first silhouette is the hand up to the first tape band (in the
+    # background's colours; the rest of the finger beyond it a part of its own, not
+    # joined by any neck): the stub measured sure and straight, 31-65 deg off. The rest
+    # of the finger lies right ahead of the stub's "tip"
+    row = _as_saved_photo(tmp_path, angle, rng, "hard", transform=lambda im: cv2.rotate(im, turn))
+    assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 5, row
+
+
 @pytest.mark.parametrize("angle, rng", [(46.40463666061759, 1757889693), (63.76381260098251, 819262446),
                                         (54.53978592725593, 54584990)])
 def test_a_poster_behind_the_fingertip_in_the_arms_colour_clusters_is_split_off_at_its_edge(tmp_path, angle, rng):

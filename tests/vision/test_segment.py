@@ -2,7 +2,7 @@ import cv2
 import numpy as np
 import pytest
 
-from flexcal.vision.segment import _arm_radius, _pieces_in, close_ellipse
+from flexcal.vision.segment import _arm_radius, _loose_pieces, _pieces_in, close_ellipse
 
 
 def _blobs(rng, shape):
@@ -63,3 +63,30 @@ def test_a_photo_turned_by_90_deg_is_segmented_like_the_photo():
         if a.mask is not None:
             turned, mask = np.rot90(a.mask) > 0, b.mask > 0
             assert (turned & mask).sum() > 0.8 * (turned | mask).sum(), seed
+
+
+def test_loose_pieces_are_thick_pieces_in_the_tips_colours_apart_from_the_part():
+    # a hand and finger entering from the left, cut by a band at x = 200; beyond it the
+    # rest of the finger (tip's colour), a thin wire in the tip's colour, a thick poster in
+    # another colour, and a knob of the tip's colour joined to the part
+    labels = np.zeros((240, 320), np.int32)              # cluster 0: the wall
+    labels[100:140, 0:200] = 1                            # hand and finger, up to the band
+    labels[100:140, 208:260] = 1                          # the finger beyond the band
+    labels[30:33, 40:200] = 1                             # a wire, 3 px
+    labels[170:220, 100:160] = 2                          # a poster
+    labels[140:160, 60:90] = 1                            # a knob on the hand
+    fg = (labels > 0).astype(np.uint8)
+    part = np.zeros_like(fg)
+    part[100:160][labels[100:160] == 1] = 1
+    part[:, 200:] = 0
+    tip_clusters = np.array([False, True, False])
+    loose = _loose_pieces(fg, part, labels, tip_clusters, half=20.0)
+    assert loose is not None
+    ids = np.unique(loose[loose > 0])
+    assert len(ids) == 1, "only the finger beyond the band"
+    assert np.array_equal(loose == ids[0], (labels == 1) & (np.arange(320) >= 208)[None, :] & (np.arange(240) >= 100)[:, None])
+    # joined to the part, it is no loose piece
+    fg2, part2 = fg.copy(), part.copy()
+    fg2[100:140, 200:208] = part2[100:140, 200:260] = 1
+    labels[100:140, 200:208] = 1
+    assert _loose_pieces(fg2, part2, labels, tip_clusters, half=20.0) is None
