@@ -47,12 +47,14 @@ class Segmentation:
     contrast: float = 0.0       # feature distance between object and background colours
     n_candidates: int = 0
     part: np.ndarray | None = None    # the chosen connected part, before finishing
-    labels: np.ndarray | None = None  # every pixel's colour cluster
+    labels: np.ndarray | None = None  # every pixel's colour cluster (uint8)
     centres: np.ndarray | None = None  # the clusters' colour features
     background: np.ndarray | None = None  # per cluster, whether it is background
     shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
     cut_off: np.ndarray | None = None  # thick pieces of the part the finishing cut off (``_finish``)
-    loose: np.ndarray | None = None  # thick pieces in the fingertip's colours apart from the part (``_loose_pieces``)
+    fg: np.ndarray | None = None      # the foreground the part was chosen from
+    tip_clusters: np.ndarray | None = None  # per cluster, whether it is one of the fingertip's colours
+    tip_half: float = 0.0             # the finger's half width near the tip (``_fingertip``)
 
     @cached_property
     def part_radius(self) -> float:
@@ -62,12 +64,13 @@ class Segmentation:
     def cut_off_from(self, mask, cut_off) -> np.ndarray | None:
         """Thick pieces apart from the silhouette ``mask`` (this segmentation's, or one
         rebuilt from it): what its finishing cut off (``cut_off``, or None) and the loose
-        pieces (``loose``) that do not touch it."""
-        if self.loose is None:
+        pieces in the fingertip's colours (``_loose_pieces``)."""
+        if self.tip_clusters is None:
             return cut_off
-        touching = np.unique(self.loose[cv2.dilate(mask.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0])
-        apart = (self.loose > 0) & ~np.isin(self.loose, touching)
-        return apart if cut_off is None else (apart | cut_off)
+        loose = _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)
+        if loose is None or cut_off is None:
+            return cut_off if loose is None else loose
+        return loose | cut_off
 
     @cached_property
     def crossings(self) -> list[np.ndarray]:
@@ -312,34 +315,33 @@ def _tip_colours(part, labels, border, tip, half, tip_clusters):
     return piece if (piece & border).any() else part
 
 
-def _loose_pieces(fg, part, labels, tip_clusters, half):
+def _loose_pieces(fg, mask, labels, tip_clusters, half):
     """Pieces of the foreground ``fg`` in the fingertip's colours (``tip_clusters``:
-    boolean per colour cluster), at least half a finger width thick (``half``: its half
-    width), within two widths of the part but apart from it, as a labels image (0: none);
-    None when there is none.
+    boolean per colour cluster) outside the silhouette ``mask`` and not touching it, at
+    least half a finger width thick (``half``: its half width), within two widths of the
+    silhouette: a boolean image, or None when there is none.
 
-    The rest of the finger beyond a band in the background's colours is such a piece;
-    so is a neighbouring finger (``angle._cut_short`` looks only ahead of the tip).
+    The rest of the finger beyond a band in the background's colours is such a piece
+    (apart from the part, or from a silhouette rebuilt from fewer of its colours); so is
+    a neighbouring finger (``angle._cut_short`` looks only ahead of the tip).
     """
-    b = box(part, int(4 * max(half, 2.0)) + 2)
-    own = fg[b] & tip_clusters.astype(np.uint8)[labels[b]]
-    n, comp = cv2.connectedComponents(own, connectivity=8)
-    apart = np.ones(n, bool)
-    apart[comp[cv2.dilate(part[b], np.ones((3, 3), np.uint8)) > 0]] = False
-    apart[0] = False
-    if not apart.any():
+    b = box(mask, int(4 * max(half, 2.0)) + 2)
+    lut = np.zeros(256, np.uint8)
+    lut[:len(tip_clusters)] = tip_clusters
+    own = cv2.bitwise_and(cv2.LUT(labels[b], lut), fg[b])
+    own[mask[b] > 0] = 0
+    thick = cv2.distanceTransform(own, cv2.DIST_L2, 3) >= 0.5 * half
+    if not thick.any():
         return None
-    # (the distance transform of the pieces apart alone, on their box: their pixels'
-    # nearest background is the same as among all the pieces)
-    pieces = apart[comp]
-    b2 = box(pieces)
-    thick = cv2.distanceTransform(pieces[b2].astype(np.uint8), cv2.DIST_L2, 3) >= 0.5 * half
+    n, comp = cv2.connectedComponents(own, connectivity=8)
     keep = np.zeros(n, bool)
-    keep[comp[b2][thick]] = True
+    keep[comp[thick]] = True
+    keep[comp[cv2.dilate(mask[b].astype(np.uint8), np.ones((3, 3), np.uint8)) > 0]] = False
+    keep[0] = False
     if not keep.any():
         return None
-    loose = np.zeros(part.shape, np.int32)
-    loose[b] = np.where(keep[comp], comp, 0)
+    loose = np.zeros(mask.shape, bool)
+    loose[b] = keep[comp]
     return loose
 
 
@@ -428,7 +430,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
                         centres=centres, background=background, shadow_is_finger=shadow_is_finger,
-                        cut_off=cut_off, loose=_loose_pieces(fg, part, labels, tip_clusters, half))
+                        cut_off=cut_off, fg=fg, tip_clusters=tip_clusters, tip_half=half)
 
 
 def _finish(mask, border):
