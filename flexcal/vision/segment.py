@@ -52,7 +52,7 @@ class Segmentation:
     background: np.ndarray | None = None  # per cluster, whether it is background
     shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
     cut_off: np.ndarray | None = None  # thick pieces of the part the finishing cut off (``_finish``)
-    fg: np.ndarray | None = None      # the foreground the part was chosen from
+    fg: np.ndarray | None = None      # the foreground (before bridging) the part was chosen from
     tip_clusters: np.ndarray | None = None  # per cluster, whether it is one of the fingertip's colours
     tip_half: float = 0.0             # the finger's half width near the tip (``_fingertip``)
 
@@ -287,9 +287,10 @@ def _tip_shares(part, labels, tip, half, k):
     rho = 4.0 * max(half, 2.0)
     r = int(np.ceil(rho))
     y0, x0 = max(0, tip[0] - r), max(0, tip[1] - r)
-    yy, xx = np.ogrid[y0:tip[0] + r + 1, x0:tip[1] + r + 1]
     win = (slice(y0, tip[0] + r + 1), slice(x0, tip[1] + r + 1))
-    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho)[:part[win].shape[0], :part[win].shape[1]] & (part[win] > 0)
+    inside = part[win] > 0
+    yy, xx = np.ogrid[y0:y0 + inside.shape[0], x0:x0 + inside.shape[1]]
+    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho) & inside
     return np.bincount(labels[win][region], minlength=k) / max(1, region.sum())
 
 
