@@ -668,7 +668,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         s0 = float(s[np.argmax(width >= 0.8 * w2)])
         wf = _finger_width(width, s - s0, w2)
     if wf < 4:
-        return failed("the finger is too thin in the picture (under 8 px wide); use a larger photo", "contour")
+        # (as a share of the picture's long side, the same for the photo and a reduced
+        # copy; a photo larger than the working resolution has no more to give)
+        larger = " or use a larger photo" if max(work.shape[:2]) < WORK_SIZE else ""
+        return failed(f"the finger is too thin in the picture (under {4 / max(work.shape[:2]):.1%} of its long "
+                      f"side); frame the finger closer{larger}", "contour")
 
     def fail(reason, foreign=False, width_known=True):
         """A failure that knows the finger's width (unless ``width_known`` is False) and

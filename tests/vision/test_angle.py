@@ -763,3 +763,18 @@ def test_an_arm_grown_into_the_whole_wall_is_no_silhouette():
     assert forearm_colours(seg, np.ones(seg.part.shape, bool), None) is None
     wall = ~cv2.dilate(seg.part, np.ones((9, 9), np.uint8)).astype(bool)
     assert forearm_colours(seg, wall | (seg.part > 0), None) is None
+
+
+def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
+    # a bent tube 3 px thick entering from the left of a 640 x 480 picture: the limit is
+    # given as a share of the picture's long side (the same for the 1280 px photo it was
+    # reduced from), and a larger photo would not help (it is measured at 640 px)
+    from flexcal.vision.angle import _measure_silhouette
+    mask = np.zeros((480, 640), np.uint8)
+    cv2.polylines(mask, [np.array([[0, 240], [300, 240], [420, 380]], np.int32)], False, 1, thickness=3)
+    work = np.full((480, 640, 3), 200, np.uint8)
+    m = _measure_silhouette(work, 1.0, mask, 50.0)
+    assert m.status == "failed" and "too thin" in m.reason and "0.6% of its long side" in m.reason, m.reason
+    assert "larger photo" not in m.reason
+    m = _measure_silhouette(work[:240, :320], 1.0, mask[::2, ::2].copy(), 50.0)
+    assert "too thin" in m.reason and "1.2% of its long side" in m.reason and "larger photo" in m.reason, m.reason
