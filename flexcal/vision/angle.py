@@ -361,6 +361,7 @@ AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 MAX_BEND_DEG = 120.0     # no knuckle bends further (flexion reaches about 90-100 deg)
 MIN_SIDE_STEP = 3.0      # a side of an arm whose colour step across it is under this (median) is no edge
+MIN_EDGE_STEP = 4.0      # ... nor a side of the silhouette under this in both arms' windows (sure answers: >= 5.3)
 
 
 def _kink(pm):
@@ -446,8 +447,9 @@ def _cut_short(tip, ahead, cut_off, width_px) -> bool:
 def _stepless_side(work, sides, s, windows) -> bool:
     """Whether the outline crosses no colour step along one side of an arm: the median
     ``colour_steps`` under ``MIN_SIDE_STEP`` on a side within one of the arclength
-    ``windows`` (the finger's and the hand's). ``sides``: (outline points, their nearest
-    midline point, inward normals) per side; ``s``: the midline's arclengths.
+    ``windows`` (the finger's and the hand's), or under ``MIN_EDGE_STEP`` within all of
+    them. ``sides``: (outline points, their nearest midline point, inward normals) per
+    side; ``s``: the midline's arclengths.
 
     A silhouette's outline is where the object meets something else, a step in colour
     (weak for a black glove against a black box, but there). When the skin's lit side is
@@ -457,10 +459,15 @@ def _stepless_side(work, sides, s, windows) -> bool:
     blurred = cv2.GaussianBlur(work, (3, 3), 0)
     for pts, near, normals in sides:
         steps, at = colour_steps(blurred, pts, normals), s[near]
+        medians = []
         for lo, hi in windows:
             inside = (at >= lo) & (at <= hi)
-            if inside.sum() >= 8 and np.median(steps[inside]) < MIN_SIDE_STEP:
-                return True
+            if inside.sum() >= 8:
+                medians.append(np.median(steps[inside]))
+        if medians and min(medians) < MIN_SIDE_STEP:
+            return True
+        if len(medians) == len(windows) and max(medians) < MIN_EDGE_STEP:
+            return True
     return False
 
 
