@@ -824,12 +824,16 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if arms is None:
         return fail("the arms are too short to fit lines to")
     # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
-    # a "finger" as wide as the hand is two fingers together, or not a finger at all.
+    # a "finger" as wide as the hand is two fingers together, or not a finger at all;
+    # or an object in front of the hand (a platform, a sheet) hides its underside, and
+    # the silhouette's side there is that object's edge, not the hand's.
     in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
     hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
     if hand_ratio < MIN_HAND_TO_FINGER:
         return fail(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
-                    "may overlap, or something else is joined to the hand: give an ROI around one finger", foreign=True)
+                    "may overlap, or something else is joined to the hand: give an ROI around one finger; or an "
+                    "object in front of the hand hides its underside: photograph with the whole hand in view",
+                    foreign=True)
     if hand_ratio > MAX_HAND_TO_FINGER:
         return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
                     "something is joined to it; give an ROI around the hand and finger", foreign=True)

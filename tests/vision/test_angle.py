@@ -789,3 +789,13 @@ def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
     assert "larger photo" not in m.reason
     m = _measure_silhouette(work[:240, :320], 1.0, mask[::2, ::2].copy(), 50.0)
     assert "too thin" in m.reason and "1.2% of its long side" in m.reason and "larger photo" in m.reason, m.reason
+
+
+def test_a_hand_whose_underside_a_mat_hides_is_refused_with_that_cause():
+    # the demo's trial 3 at 20 deg: the cutting mat in front of the hand hides its
+    # underside, so the hand looks as thick as the finger; the reason must name that
+    # cause (it spoke only of overlapping fingers and objects joined to the hand)
+    from flexcal.measure import measure_file
+    photo = Path(__file__).resolve().parents[2] / "datasets/sample/trial_03/images/step_03_020deg.jpg"
+    row = measure_file(photo)[0]
+    assert row["status"] == "ok" or "in front of the hand" in row["reason"], row["reason"]
