@@ -260,6 +260,16 @@ def _pieces_in(part, keep, bridge_px):
     return n, comp, stats
 
 
+def _disk(centre, radius, shape):
+    """The pixels within ``radius`` of ``centre`` (row, col) in a picture of ``shape``:
+    the window around it (slices) and the disk within that window (boolean)."""
+    r = int(np.ceil(radius))
+    y0, x0 = max(0, centre[0] - r), max(0, centre[1] - r)
+    y1, x1 = min(shape[0], centre[0] + r + 1), min(shape[1], centre[1] + r + 1)
+    yy, xx = np.ogrid[y0:y1, x0:x1]
+    return (slice(y0, y1), slice(x0, x1)), (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= radius * radius
+
+
 def _fingertip(part, border):
     """The part's free end (row, col) (``_free_end``) and the finger's half width there:
     the largest inscribed circle a little way in from the tip (not further: the hand may
@@ -271,11 +281,8 @@ def _fingertip(part, border):
 
     def widest_near_tip(radius):
         """The largest distance to the background within ``radius`` of the tip."""
-        r = int(np.ceil(radius))
-        y0, x0 = max(0, tip[0] - r), max(0, tip[1] - r)
-        y1, x1 = min(dt.shape[0], tip[0] + r + 1), min(dt.shape[1], tip[1] + r + 1)
-        yy, xx = np.ogrid[y0:y1, x0:x1]
-        return float(dt[y0:y1, x0:x1][(yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= radius * radius].max())
+        win, disk = _disk(tip, radius, dt.shape)
+        return float(dt[win][disk].max())
 
     half = widest_near_tip(10)
     return tip, widest_near_tip(3 * max(half, 2.0))
@@ -284,13 +291,8 @@ def _fingertip(part, border):
 def _tip_shares(part, labels, tip, half, k):
     """The share of each of the ``k`` colour clusters in the part within about two finger
     widths (``half``: the finger's half width) of the tip: the fingertip's colours."""
-    rho = 4.0 * max(half, 2.0)
-    r = int(np.ceil(rho))
-    y0, x0 = max(0, tip[0] - r), max(0, tip[1] - r)
-    win = (slice(y0, tip[0] + r + 1), slice(x0, tip[1] + r + 1))
-    inside = part[win] > 0
-    yy, xx = np.ogrid[y0:y0 + inside.shape[0], x0:x0 + inside.shape[1]]
-    region = ((yy - tip[0]) ** 2 + (xx - tip[1]) ** 2 <= rho * rho) & inside
+    win, disk = _disk(tip, 4.0 * max(half, 2.0), part.shape)
+    region = disk & (part[win] > 0)
     return np.bincount(labels[win][region], minlength=k) / max(1, region.sum())
 
 
