@@ -331,6 +331,7 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
 
 
 WF_WIN, WF_ITERS = (0.8, 2.5), 4  # the finger's width: median width this many widths from the tip
+BLOB_TIP_FACING = 0.3    # ... where fewer of the pairs there face across, a blob is joined to the tip
 NARROW_TIP = (4.0, 1.3)  # the silhouette up to 4 widths from the tip 1.3x wider: the tip is cut (nail)
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
 FIN_EDGE_WIN = (1.0, 2.75)  # the finger's edges are followed this far, if they run straight
@@ -493,16 +494,47 @@ def _splits_better_beyond(mid, s, wf, total, b, hi):
     return bool(beyond < min((STRAIGHT_TOL * wf) ** 2, BEYOND_RATIO * at_b))
 
 
-def _finger_width(width, s, start):
+def _finger_width(width, s, facing, start):
     """The finger's width near its tip: the fixed point of "median width between
-    WF_WIN widths from the tip" (arclengths ``s``), iterated from ``start``."""
-    wf = start
+    WF_WIN widths from the tip" (arclengths ``s``), iterated from ``start``; and the share
+    of the pairs in the window it came from that face across (``facing``)."""
+    wf, share = start, 1.0
     for _ in range(WF_ITERS):
         near = (s > WF_WIN[0] * wf) & (s < WF_WIN[1] * wf)
         if near.sum() < 5:
             break
-        wf = float(np.median(width[near]))
-    return wf
+        wf, share = float(np.median(width[near])), float(np.mean(facing[near]))
+    return wf, share
+
+
+def _tip_width(width, s, facing):
+    """The finger's width near its tip (the hand is wider and may dominate the outline)
+    from the midline's widths at arclengths ``s`` from the tip; and the share of the
+    pairs that face across (``facing``) where it was taken."""
+    wf, tip_facing = _finger_width(width, s, facing, float(np.percentile(width[s > 0.05 * s[-1]], 30)))
+    # A fingertip narrower than the finger behind it over more than a width (the nail,
+    # in the wall's colour, left out of the silhouette) makes a fixed point of its own:
+    # then the width is taken from where the silhouette reaches the finger's thickness.
+    beyond = (s > WF_WIN[1] * wf) & (s < NARROW_TIP[0] * wf)
+    if beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf:
+        w2 = float(np.median(width[beyond]))
+        s0 = float(s[np.argmax(width >= 0.8 * w2)])
+        wf, tip_facing = _finger_width(width, s - s0, facing, w2)
+    # A blob joined to the tip (the finger's shadow on a dark object beside it) is no
+    # tube: its pairs do not face across, and its widths make a fixed point of their own
+    # (or none: the window swings between it and the finger). Then the width is taken
+    # from where the pairs start facing across, if that is within the fingertip's window
+    # (further on, the tube is more likely the hand, and the "blob" two fingers merged).
+    if tip_facing < BLOB_TIP_FACING:
+        k = max(5, int(round(wf)))   # about half a width of arclength (pairs from both sides)
+        run = np.convolve(facing.astype(float), np.ones(k) / k, mode="valid")
+        starts = np.nonzero(run >= 0.8)[0]
+        if len(starts):
+            s0 = float(s[starts[0]])
+            w2, share2 = _finger_width(width, s - s0, facing, float(np.median(width[starts[0]:starts[0] + k])))
+            if share2 >= 0.5 and s0 <= WF_WIN[1] * w2:
+                wf, tip_facing = w2, share2
+    return wf, tip_facing
 
 
 def _bend(d_hand_towards_knuckle, d_finger_from_knuckle):
@@ -663,17 +695,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     valid = (s > 0.05 * total)
     if valid.sum() < 20:
         return failed("the silhouette is too small to measure", "contour")
-    # the finger's width is taken near the tip (the hand is wider and may dominate the
-    # outline)
-    wf = _finger_width(width, s, float(np.percentile(width[valid], 30)))
-    # A fingertip narrower than the finger behind it over more than a width (the nail,
-    # in the wall's colour, left out of the silhouette) makes a fixed point of its own:
-    # then the width is taken from where the silhouette reaches the finger's thickness.
-    beyond = (s > WF_WIN[1] * wf) & (s < NARROW_TIP[0] * wf)
-    if beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf:
-        w2 = float(np.median(width[beyond]))
-        s0 = float(s[np.argmax(width >= 0.8 * w2)])
-        wf = _finger_width(width, s - s0, w2)
+    wf, tip_facing = _tip_width(width, s, facing)
     if wf < 4:
         # (as a share of the picture's long side, the same for the photo and a reduced
         # copy; a photo larger than the working resolution has no more to give)
@@ -917,7 +939,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         vertex=(float(vtx[0] * inv), float(vtx[1] * inv)),
         proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
-        details=dict(finger_width_px=wf * inv, knuckle_from_tip_widths=b / wf, contrast=contrast,
+        details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf, contrast=contrast,
                      hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
                      finger_edges_from_widths=fin["near"]),

@@ -799,3 +799,36 @@ def test_a_hand_whose_underside_a_mat_hides_is_refused_with_that_cause():
     photo = Path(__file__).resolve().parents[2] / "datasets/sample/trial_03/images/step_03_020deg.jpg"
     row = measure_file(photo)[0]
     assert row["status"] == "ok" or "in front of the hand" in row["reason"], row["reason"]
+
+
+def test_a_blob_joined_to_the_fingertip_does_not_set_the_fingers_width():
+    # the finger's shadow on a dark box beside its tip, joined to the silhouette, is no
+    # tube: its pairs do not face across. Its widths made the finger half as wide again
+    # as it is (1.6x in the render below), and the hand "as wide as the finger"
+    from flexcal.vision.angle import _midline, _outline_chains, _tip_width
+    mask = np.zeros((480, 640), np.uint8)
+    mask[200:250, 0:300] = 1                              # the hand, leaving the picture
+    cv2.rectangle(mask, (262, 200), (291, 400), 1, -1)    # the finger, 30 px wide
+    cv2.circle(mask, (276, 400), 15, 1, -1)               # its round tip
+    for blob in (None, [[262, 370], [230, 405], [276, 415]], [[262, 375], [235, 410], [276, 415]]):
+        m = mask.copy()
+        if blob is not None:
+            cv2.fillPoly(m, [np.array(blob)], 1)          # a lump beside the tip
+        _, width, s, facing, _, _ = _midline(*_outline_chains(m)[0])
+        wf, share = _tip_width(width, s, facing)
+        assert abs(wf - 29.0) < 1.5 and share > 0.5, (blob, wf, share)
+
+
+def test_a_finger_whose_tip_is_joined_to_its_shadow_is_measured(tmp_path):
+    # dark skin over a dark red box: the finger's shadow on it joins the tip; the width
+    # taken there (52 px for 34) made the hand look as thin as the finger, and refused
+    _assert_measured(tmp_path, 65.13488052389076, 395976980, "realistic", tol=1.0)
+
+
+def test_two_fingers_joined_at_their_bases_are_not_a_blob_at_a_fingertip(tmp_path):
+    # a black glove, the next finger beside the index, both tips cut off by a poster:
+    # what is left of the two fingers is the silhouette's "tip". The tube after it is
+    # the hand, and a width taken there measured the hand as a straight finger, 22 deg off
+    row = _as_saved_photo(tmp_path, 24.449095905767745, 30392184, "hard",
+                          transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE))
+    assert row["status"] == "failed" or abs(row["angle_deg"] - 24.449095905767745) < 5, row
