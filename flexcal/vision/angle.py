@@ -596,6 +596,7 @@ def _measure_segmentation(work, f, seg):
     if seg.mask is None:
         return failed(seg.reason, "contour")
     cut_off = seg.cut_off_from(seg.mask, seg.cut_off)
+    sure = []
     m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
@@ -604,6 +605,8 @@ def _measure_segmentation(work, f, seg):
         m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]:
             m = m2
+        elif m2.status == "ok":
+            sure.append(m2)
     # The silhouette may hold more than hand and finger (a box or poster of another
     # colour, the shadow under the finger). When the measurement is not sure, it is
     # measured again in only the forearm's colours (its colour clusters, or grown from
@@ -637,10 +640,23 @@ def _measure_segmentation(work, f, seg):
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=seg.cut_off_from(alt, alt_cut_off))
+                    if m2.status == "ok":
+                        sure.append(m2)
                     if m2.status == "ok" and (best is None or alt.sum() > best_area):
                         best, best_area = m2, alt.sum()
         if best is not None:
             m = best
+            # every sure reading of this segmentation must agree with the one taken: a
+            # rebuilt silhouette that took in a piece of an object beside the knuckle
+            # can place it at the second joint, sure, while the knuckle sought further
+            # on the first silhouette gives another sure bend
+            other = next((o for o in sure if abs(o.angle_deg - m.angle_deg)
+                          > 3 * np.hypot(o.angle_unc_deg, m.angle_unc_deg)), None)
+            if other is not None:
+                return failed(f"readings of the silhouette disagree ({m.angle_deg:.0f} and {other.angle_deg:.0f} deg): "
+                              "an object beside the hand or finger, or a bent second joint, makes the knuckle "
+                              "ambiguous; photograph with the second joint straight and nothing touching the hand",
+                              "contour")
     if seg.shadow_is_finger and m.status != "ok":
         # the finger is in the colour of the wall in shadow: its silhouette may be only
         # its shaded half (the lit half in the wall's colour); only a sure answer counts
