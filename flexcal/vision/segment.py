@@ -33,6 +33,7 @@ _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
+_INTERLEAVED = 0.5          # ... or the share of each one's pixels next to the other's over which they are
 _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
 _GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
@@ -376,8 +377,9 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     n_border = border.sum()
     share = np.bincount(labels_s[border], minlength=k) / n_border
     # k-means may split one surface into clusters of nearly the same colour (vignetting,
-    # texture, a gradient of light): such clusters share their border share
-    group = _same_surface(centres).astype(float) @ share
+    # texture, a gradient of light), or into the colours of its print (a cutting mat's
+    # grid lines and squares): such clusters share their border share
+    group = (_same_surface(centres) | _interleaved(labels_s, k)).astype(float) @ share
     background = group > border_share
     # a cluster with a background cluster's chromaticity but somewhat darker is that
     # background in shadow (a black glove on a grey wall is much darker than any shadow)
@@ -501,6 +503,20 @@ def _crossing_regions(seg: Segmentation):
 def _same_surface(centres):
     """Per pair of colour clusters, whether they are one surface (nearly the same colour)."""
     return np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < _SAME_SURFACE
+
+
+def _interleaved(labels, k):
+    """Per pair of colour clusters, whether they are the colours of one printed or woven
+    surface: most pixels of each lie next to (3x3) the other's. A finger's lit and shaded
+    halves, its rim, or a finger and the wall only meet along a line."""
+    k3 = np.ones((3, 3), np.uint8)
+    counts = np.maximum(np.bincount(labels.ravel(), minlength=k), 1)
+    near = np.empty((k, k))
+    for i in range(k):
+        near[i] = np.bincount(labels[cv2.dilate((labels == i).astype(np.uint8), k3) > 0], minlength=k) / counts
+    both = np.minimum(near, near.T) > _INTERLEAVED
+    np.fill_diagonal(both, False)
+    return both
 
 
 def _arm_clusters(seg: Segmentation, region) -> np.ndarray:

@@ -291,6 +291,16 @@ def test_a_cutting_mat_platform_is_background():
     assert abs(m.angle_deg - 42.0) < 1.5
 
 
+@pytest.mark.parametrize("angle, rng", [(1.8170988147678613, 2094958335), (44.02510738483107, 1765408964),
+                                        (57.54954062326768, 334161958)])
+def test_a_cutting_mat_whose_grid_lines_take_a_cluster_is_background(tmp_path, angle, rng):
+    # the mat's grid lines take a colour cluster of their own, with most of the mat's
+    # share of the border; its green squares, on 6 % of the border, joined the hand
+    # ("no elongated object", or the hand 2.3x the finger). The two colours lie next to
+    # each other everywhere on the mat: one printed surface
+    _assert_measured(tmp_path, angle, rng, "clean", tol=1.0)
+
+
 def test_a_hand_wider_than_a_hand_is_refused():
     img, truth = render_finger(45.0, shape=SHAPE, rng=7, difficulty="clean", sensor=False)
     assert measure_angle(img).status == "ok"

@@ -86,3 +86,15 @@ def test_loose_pieces_are_thick_pieces_in_the_tips_colours_apart_from_the_silhou
     # touching the silhouette (the band in the tip's colour), it is no loose piece
     labels[100:140, 200:208] = 1
     assert _loose_pieces((labels > 0).astype(np.uint8), part, labels, tip_clusters, half=20.0) is None
+
+
+def test_the_colours_of_a_printed_grid_are_one_surface_a_fingers_are_not():
+    from flexcal.vision.segment import _interleaved
+    labels = np.zeros((120, 160), np.uint8)          # 0: a mat's squares
+    labels[::6, :] = 1                               # 1: its grid lines
+    labels[:, ::6] = 1
+    labels[40:70, :] = 2                             # 2: a hand lying across it
+    labels[40:42, :] = 3                             # 3: the hand's lit rim
+    both = _interleaved(labels, 4)
+    assert both[0, 1] and both[1, 0]
+    assert not both[2].any() and not both[:, 2].any() and not both[3].any()
