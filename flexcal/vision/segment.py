@@ -33,7 +33,7 @@ _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
-_INTERLEAVED = 0.5          # ... or the share of each one's pixels next to the other's over which they are
+_INTERLEAVED = 0.5          # ... or when more than this share of each one's pixels lie next to the other's (a print)
 _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
 _GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
@@ -507,8 +507,10 @@ def _same_surface(centres):
 
 def _interleaved(labels, k):
     """Per pair of colour clusters, whether they are the colours of one printed or woven
-    surface: most pixels of each lie next to (3x3) the other's. A finger's lit and shaded
-    halves, its rim, or a finger and the wall only meet along a line."""
+    surface: most pixels of each lie next to (3x3) the other's, in the thumbnail. A
+    finger's rim and its skin, or a finger and the wall, meet only along a line (a finger
+    a few thumbnail pixels thick may count as one surface with its rim: both lie on
+    little of the border, so the sum does too)."""
     k3 = np.ones((3, 3), np.uint8)
     counts = np.maximum(np.bincount(labels.ravel(), minlength=k), 1)
     near = np.empty((k, k))
