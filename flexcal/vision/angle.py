@@ -868,9 +868,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
     hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
     if hand_ratio < MIN_HAND_TO_FINGER:
-        return fail(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x); two fingers "
-                    "may overlap, or something else is joined to the hand: give an ROI around one finger; or an "
-                    "object in front of the hand hides its underside: photograph with the whole hand in view",
+        return fail(f"the part taken for the finger is as wide as the hand ({hand_ratio:.2f}x): another finger "
+                    "overlapping it (curl the other fingers out of the side view), something joined to the hand "
+                    "(give an ROI around the hand and finger), or an object in front of the hand hiding its "
+                    "underside (photograph with the whole hand in view)",
                     foreign=True)
     if hand_ratio > MAX_HAND_TO_FINGER:
         return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
