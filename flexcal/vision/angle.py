@@ -761,9 +761,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if best_run[0] == 0 and cands[best_run[-1]] - lo < PINNED_W * wf:
         # the midline fits two lines best at (or below) the nearest place a knuckle can be
         # from the tip: that bend is the second joint (more bent than the knuckle), or
-        # the finger is not what was taken for it
+        # the finger is not what was taken for it (two overlapping fingers part there)
         return fail("the finger bends most where the second joint is: the knuckle cannot be told from it; "
-                    "photograph with the second joint straight")
+                    "photograph with the second joint straight (another finger overlapping it also makes it look "
+                    "so: curl the other fingers out of the side view)")
 
     # A slender finger's knuckle may lie just beyond the range; then the best place
     # within it is only the next joint or the step where a thin distal part meets the
