@@ -957,8 +957,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         vertex=(float(vtx[0] * inv), float(vtx[1] * inv)),
         proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
-        details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf, contrast=contrast,
-                     hand_to_finger_width=hand_ratio,
+        details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf,
+                     contrast=contrast, hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
                      finger_edges_from_widths=fin["near"]),
     )

@@ -813,8 +813,8 @@ def test_a_hand_whose_underside_a_mat_hides_is_refused_with_that_cause():
 
 def test_a_blob_joined_to_the_fingertip_does_not_set_the_fingers_width():
     # the finger's shadow on a dark box beside its tip, joined to the silhouette, is no
-    # tube: its pairs do not face across. Its widths made the finger half as wide again
-    # as it is (1.6x in the render below), and the hand "as wide as the finger"
+    # tube: its pairs do not face across. Its widths made the finger wider than it is
+    # (1.6x in the render below), and the hand "as wide as the finger"
     from flexcal.vision.angle import _midline, _outline_chains, _tip_width
     mask = np.zeros((480, 640), np.uint8)
     mask[200:250, 0:300] = 1                              # the hand, leaving the picture
@@ -849,7 +849,8 @@ def test_sure_readings_of_one_silhouette_that_disagree_are_refused(tmp_path):
     # turned upside down: a silhouette rebuilt in the forearm's colours took in a piece
     # of a white sheet beside the knuckle and measured the second joint, sure, 21 deg
     # off; the knuckle sought further on the finer silhouette gave 14.1 deg, also sure
-    row = _as_saved_photo(tmp_path, 14.595159612152067, 30642108, "hard", transform=lambda im: cv2.rotate(im, cv2.ROTATE_180))
+    row = _as_saved_photo(tmp_path, 14.595159612152067, 30642108, "hard",
+                          transform=lambda im: cv2.rotate(im, cv2.ROTATE_180))
     assert row["status"] == "failed" or abs(row["angle_deg"] - 14.595159612152067) < 5, row
 
 
