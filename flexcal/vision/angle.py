@@ -642,8 +642,8 @@ def _measure_segmentation(work, f, seg):
                     m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=seg.cut_off_from(alt, alt_cut_off))
                     if m2.status == "ok":
                         sure.append(m2)
-                    if m2.status == "ok" and (best is None or alt.sum() > best_area):
-                        best, best_area = m2, alt.sum()
+                        if best is None or alt.sum() > best_area:
+                            best, best_area = m2, alt.sum()
         if best is not None:
             m = best
             # every sure reading of this segmentation must agree with the one taken: a
