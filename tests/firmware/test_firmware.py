@@ -4,6 +4,7 @@ import math
 import re
 import subprocess
 import time
+import weakref
 
 import numpy as np
 import pytest
@@ -47,18 +48,20 @@ def test_the_sketch_builds_for_the_uno_and_reports_its_size(built):
     assert flash < 32256 and ram < 2048 * 0.5   # fits the Uno, with room for a calibration table and the stack
 
 
-_pending: dict = {}
+# A port's partial last line, until its next read. Keyed by the port object itself (weakly):
+# keyed by id(), a closed port's leftover went to the next test's port when the id was reused.
+_pending: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _read_lines(port, seconds):
     """Complete lines received within ``seconds`` (a partial last line waits for the next call)."""
     lines, t_end = [], time.monotonic() + seconds
-    buf = _pending.pop(id(port), b"")
+    buf = _pending.pop(port, b"")
     while time.monotonic() < t_end:
         buf += port.read(512)
         *done, buf = buf.split(b"\n")
         lines += [(time.monotonic(), d.decode("ascii", "replace")) for d in done]
-    _pending[id(port)] = buf
+    _pending[port] = buf
     return lines
 
 
