@@ -46,6 +46,13 @@ segmented again in finer colours (nine clusters, not six: posters on the wall us
 clusters up); a sure answer on that silhouette counts when it mostly agrees with the
 first (intersection over union at least 0.85).
 
+Another finger behind the measured one, of the same colour, joins it in the silhouette:
+the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
+silhouette is parted at the strongest colour edges between the two outer sides (the
+front finger's edge across the one behind: ``segment.split_at_inner_edge``) and each
+part, with the hand, is measured; only an answer without doubts counts
+(``_measure_split``).
+
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
 its likely range, and a floor for what the method cannot resolve.
@@ -66,7 +73,7 @@ from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import colour_steps, cut_contrast, inward_normals, skin_edge
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
-                                    segment_finger)
+                                    segment_finger, split_at_inner_edge)
 
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
@@ -357,6 +364,13 @@ KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this clos
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)
 TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
+SPLIT_SEEDS_W = (1.2, 2.5)  # two fingers' outer sides are seeded this far from the tip (widths of both together)
+SPLIT_EDGE_SHARE = 0.8   # ... and at least this share of one side of the finger's window must be where they parted
+SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
+SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident,
+SPLIT_WINDOW_WIDTH = (0.85, 1.5)  # ... its finger this many times as wide in its window as near the tip (sure answers: 0.89-1.4)
+UNC_PARTED_DEG = 1.5     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
+                         # stretch (hard renders: parted answers up to 4 deg off, RMS 2; clean ones MAE 0.4)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
@@ -445,7 +459,7 @@ def _cut_short(tip, ahead, cut_off, width_px) -> bool:
     return bool(np.any((r2 <= (TIP_CUT_W * width_px) ** 2) & (along >= np.sqrt(0.5 * r2))))
 
 
-def _stepless_side(work, sides, s, windows) -> bool:
+def _stepless_side(work, sides, s, windows, parted=None) -> bool:
     """Whether the outline crosses no colour step along one side of an arm: the median
     ``colour_steps`` under ``MIN_SIDE_STEP`` on a side within one of the arclength
     ``windows`` (the finger's and the hand's), or under ``MIN_EDGE_STEP`` within all of
@@ -456,10 +470,16 @@ def _stepless_side(work, sides, s, windows) -> bool:
     (weak for a black glove against a black box, but there). When the skin's lit side is
     in the background's colours, that side of the silhouette runs along the shading on
     the skin instead, a slope: parallel to the finger's edge or not, it is not the edge.
+    Outline points in ``parted`` (a boolean image: next to another finger parted from
+    this silhouette, ``_measure_split``) are left out: there the outline is the front
+    finger's edge across the finger behind it, of the same colour.
     """
     blurred = cv2.GaussianBlur(work, (3, 3), 0)
     for pts, near, normals in sides:
         steps, at = colour_steps(blurred, pts, normals), s[near]
+        if parted is not None:
+            own = ~_inside(pts, parted)
+            steps, at = steps[own], at[own]
         medians = []
         for lo, hi in windows:
             inside = (at >= lo) & (at <= hi)
@@ -470,6 +490,17 @@ def _stepless_side(work, sides, s, windows) -> bool:
         if len(medians) == len(windows) and max(medians) < MIN_EDGE_STEP:
             return True
     return False
+
+
+def _inside(pts, region):
+    """Per point (x, y), whether it lies in ``region`` (a boolean image)."""
+    xi, yi = np.round(pts).astype(int).T
+    return region[np.clip(yi, 0, region.shape[0] - 1), np.clip(xi, 0, region.shape[1] - 1)]
+
+
+def _share_within(pts, region) -> float:
+    """The share of the points (x, y) that lie in ``region`` (0 without points)."""
+    return float(_inside(pts, region).mean()) if len(pts) else 0.0
 
 
 def _knuckle_far_end(wf, total, widths):
@@ -657,6 +688,8 @@ def _measure_segmentation(work, f, seg):
                               "an object beside the hand or finger, or a bent second joint, makes the knuckle "
                               "ambiguous; photograph with the second joint straight and nothing touching the hand",
                               "contour")
+    if m.status != "ok" and best is None and m.details.get("two_fingers"):
+        m = _measure_split(work, f, seg) or m
     if seg.shadow_is_finger and m.status != "ok":
         # the finger is in the colour of the wall in shadow: its silhouette may be only
         # its shaded half (the lit half in the wall's colour); only a sure answer counts
@@ -670,6 +703,49 @@ def _measure_segmentation(work, f, seg):
         m.reason = (f"the silhouette leaves the picture in {exits} places: the fingertip, or something joined to "
                     "the hand or finger, reaches the picture's edge; keep the fingertip in the frame, or give an "
                     "ROI around the hand and finger")
+    return m
+
+
+def _measure_split(work, f, seg):
+    """The front finger's bend when the silhouette is two fingers, one behind the other
+    (``segment.split_at_inner_edge``); None when no parting gives a sure answer.
+
+    Each of the silhouette's outer sides along the fingers is one finger's outer edge.
+    The silhouette is parted both ways (the finger of one side with the hand, the other
+    side's finger removed) and each is measured (``_measure_silhouette`` with ``parted``:
+    the removed piece must be as thick as a finger and lie along one side of the
+    finger's window). Where the front finger is kept, its own edge parts it from the
+    finger behind, and the hand is whole; kept the other way, the front finger is cut
+    where the growths happen to meet, or only its tip is removed. A parting is a guess,
+    so a reading counts only without doubts and with the finger as wide in its window
+    as near its tip; when both partings give one, they must agree. The answer's
+    uncertainty includes the parting's (``UNC_PARTED_DEG``).
+    """
+    chains, _ = _outline_chains(seg.mask)
+    if chains is None:
+        return None
+    _, width, s, facing, a, b = _midline(*chains)
+    wf, _ = _tip_width(width, s, facing)    # (the fingers together; sides a, b are at 1 px)
+    sides = [p[int(SPLIT_SEEDS_W[0] * wf):int(SPLIT_SEEDS_W[1] * wf)] for p in (a, b)]
+    hand = np.vstack([p[-int(SPLIT_SEEDS_W[0] * wf):] for p in (a, b)])
+    sure = []
+    for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
+        m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
+        # the parting is itself a guess: only a reading without doubts counts, whose
+        # finger is as wide in its window as near its tip (a parting that frayed the tip
+        # makes the finger's width, and every window with it, too small)
+        if m.confidence >= SPLIT_CONFIDENCE and SPLIT_WINDOW_WIDTH[0] <= m.details["finger_window_width"] \
+                <= SPLIT_WINDOW_WIDTH[1]:
+            sure.append(m)
+    if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
+                                                                                       sure[1].angle_unc_deg):
+        return failed(f"two overlapping fingers, and either could be the one in front ({sure[0].angle_deg:.0f} or "
+                      f"{sure[1].angle_deg:.0f} deg); curl the other fingers out of the side view", "contour")
+    if not sure:
+        return None
+    m = min(sure, key=lambda m: m.angle_unc_deg)
+    m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
+    m.details.update(parted_from_another_finger=True)
     return m
 
 
@@ -699,9 +775,10 @@ def _free_stretches(contour, shape):
     return starts, lengths
 
 
-def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None):
+def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None):
     """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the
-    input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``)."""
+    input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``);
+    ``parted``: another finger's region parted from it (``_measure_split``)."""
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
@@ -719,11 +796,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return failed(f"the finger is too thin in the picture (under {4 / max(work.shape[:2]):.1%} of its long "
                       f"side); frame the finger closer{larger}", "contour")
 
-    def fail(reason, foreign=False, width_known=True):
-        """A failure that knows the finger's width (unless ``width_known`` is False) and
-        whether the silhouette holds something besides the hand and finger (``foreign``)."""
+    def fail(reason, foreign=False, width_known=True, two_fingers=False):
+        """A failure that knows the finger's width (unless ``width_known`` is False),
+        whether the silhouette holds something besides the hand and finger (``foreign``)
+        and whether two overlapping fingers would look so (``two_fingers``)."""
         m = failed(reason, "contour")
-        m.details.update(foreign=foreign)
+        m.details.update(foreign=foreign, two_fingers=two_fingers)
         if width_known:
             m.details.update(finger_width_px=wf / f)
         return m
@@ -735,7 +813,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                     "colours); photograph against a background of another colour")
     if _free_branches(mask, wf) > 1:
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                    "or finger; give an ROI around the finger or move the object", foreign=True)
+                    "or finger; give an ROI around the finger or move the object", foreign=True, two_fingers=True)
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
@@ -764,7 +842,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         # the finger is not what was taken for it (two overlapping fingers part there)
         return fail("the finger bends most where the second joint is: the knuckle cannot be told from it; "
                     "photograph with the second joint straight (another finger overlapping it also makes it look "
-                    "so: curl the other fingers out of the side view)")
+                    "so: curl the other fingers out of the side view)", two_fingers=True)
 
     # A slender finger's knuckle may lie just beyond the range; then the best place
     # within it is only the next joint or the step where a thin distal part meets the
@@ -855,13 +933,27 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 skin_mid = _skin_midline(core_pts, dm)
                 if len(skin_mid) >= 12:
                     kink = min(kink, _kink(skin_mid))
+            # the arm's width: between its two edge lines, across the axis at its centre
+            gap = edges[1][0] - edges[0][0]
+            width = abs(float(d_axis[0] * gap[1] - d_axis[1] * gap[0]))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
-                            length=(hi_s - lo_s), kink=kink, near=near_end))
+                            length=(hi_s - lo_s), kink=kink, near=near_end, width=width))
         return res
 
     arms = arms_at(b)
     if arms is None:
         return fail("the arms are too short to fit lines to")
+    # (outline points next to another finger parted from this silhouette)
+    along = None if parted is None else cv2.dilate(parted.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
+    if along is not None and max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
+                                 for sn, pts in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
+        # parted from another finger, the finger's own edge across that finger must be
+        # one side of the finger's window; else the parting missed the window (it still
+        # holds both fingers together, or a stub of the hand)
+        return fail("the finger's window is not where two overlapping fingers were parted")
+    if parted is not None and 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
+            < SPLIT_MIN_THICK * wf:
+        return fail("what was parted from the finger is too thin to be another finger")
     # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
     # a "finger" as wide as the hand is two fingers together, or not a finger at all;
     # or an object in front of the hand (a platform, a sheet) hides its underside, and
@@ -873,7 +965,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                     "overlapping it (curl the other fingers out of the side view), something joined to the hand "
                     "(give an ROI around the hand and finger), or an object in front of the hand hiding its "
                     "underside (photograph with the whole hand in view)",
-                    foreign=True)
+                    foreign=True, two_fingers=True)
     if hand_ratio > MAX_HAND_TO_FINGER:
         return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
                     "something is joined to it; give an ROI around the hand and finger", foreign=True)
@@ -946,7 +1038,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         reasons.append(f"a bend of {angle:.0f} deg is beyond any knuckle's range: the arms found are not the "
                        "finger's and the hand's")
     if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
-                                       (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)]):
+                                       (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)], along):
         conf = 0.0
         reasons.append("along one side of an arm the outline crosses no colour step: it follows the shading on "
                        "the skin, not the skin's edge (its lit side is in the background's colours)")
@@ -960,7 +1052,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf,
                      contrast=contrast, hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
-                     finger_edges_from_widths=fin["near"]),
+                     finger_edges_from_widths=fin["near"], finger_window_width=fin["width"] / wf),
     )
     return _grade(meas, reasons)
 

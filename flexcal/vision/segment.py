@@ -658,3 +658,46 @@ def _largest_on_border(n, comp, stats, border):
     if not keep:
         return None
     return (comp == max(keep, key=lambda j: stats[j, cv2.CC_STAT_AREA])).astype(np.uint8)
+
+
+def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Two fingers, one behind the other, as one silhouette ``mask``: each finger's
+    silhouette with the hand, parted at the strongest colour edges between them.
+
+    ``sides``: the silhouette's two outer sides along the fingers (outline points
+    (x, y), one array per side: each side is one finger's outer edge); ``hand``: outline
+    points of the hand. Seeds ``radius`` px around those points grow over the colour
+    image (a marker watershed): a finger grown from one side and the hand from the
+    other side's finger meet where the colour changes most between them, the front
+    finger's edge across the one behind. Returns, for each side, (the silhouette of the
+    hand and that side's finger, the other side's region removed from it); not when
+    that finger ends up apart from the hand.
+    """
+    h, w = mask.shape
+    inside = mask > 0
+    r = max(2, int(round(radius)))
+
+    def seeds(points):
+        m = np.zeros((h, w), np.uint8)
+        for x, y in np.round(points).astype(int):
+            cv2.circle(m, (int(x), int(y)), r, 1, -1)
+        return (m > 0) & inside
+
+    side_seeds, hand_seeds = [seeds(p) for p in sides], seeds(hand)
+    outside = cv2.dilate(mask.astype(np.uint8), np.ones((3, 3), np.uint8)) == 0
+    out = []
+    for keep, drop in ((0, 1), (1, 0)):
+        markers = np.zeros((h, w), np.int32)
+        markers[outside] = 3
+        markers[side_seeds[keep] | hand_seeds] = 1
+        markers[side_seeds[drop] & ~hand_seeds] = 2
+        cv2.watershed(bgr, markers)
+        removed = markers == 2
+        # (the watershed's lines between regions: kept, but not next to the removed one)
+        line = (markers == -1) & (cv2.dilate(removed.astype(np.uint8), np.ones((3, 3), np.uint8)) == 0)
+        kept = (inside & ((markers == 1) | line)).astype(np.uint8)
+        # the finger kept must be joined to the hand (not an island cut off by the growths)
+        _, comp = cv2.connectedComponents(kept, connectivity=8)
+        if np.array_equal(np.unique(comp[side_seeds[keep] | hand_seeds]), np.unique(comp[hand_seeds])):
+            out.append((kept, removed))
+    return out

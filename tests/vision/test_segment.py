@@ -2,7 +2,7 @@ import cv2
 import numpy as np
 import pytest
 
-from flexcal.vision.segment import _arm_radius, _loose_pieces, _pieces_in, close_ellipse
+from flexcal.vision.segment import _arm_radius, _loose_pieces, _pieces_in, close_ellipse, split_at_inner_edge
 
 
 def _blobs(rng, shape):
@@ -98,3 +98,43 @@ def test_the_colours_of_a_printed_grid_are_one_surface_a_fingers_are_not():
     both = _interleaved(labels, 4)
     assert both[0, 1] and both[1, 0]
     assert not both[2].any() and not both[:, 2].any() and not both[3].any()
+
+
+def _tube(shape, p0, p1, half_width):
+    m = np.zeros(shape, np.uint8)
+    cv2.line(m, tuple(int(v) for v in p0), tuple(int(v) for v in p1), 1, 2 * half_width)
+    cv2.circle(m, tuple(int(v) for v in p1), half_width, 1, -1)
+    return m > 0
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_two_overlapping_fingers_are_parted_at_the_front_fingers_edge(seed):
+    # a hand from the left edge, and at its end two fingers from one knuckle: the one
+    # behind (darker) bent further. The front finger's edge across the one behind is
+    # the only colour step between them
+    rng = np.random.default_rng(seed)
+    shape, knuckle = (300, 420), np.array([200.0, 100.0])
+    hand = _tube(shape, (0, 100), knuckle, 20)
+    front_tip = knuckle + 170 * np.array([np.cos(np.radians(20)), np.sin(np.radians(20))])
+    back_tip = knuckle + 160 * np.array([np.cos(np.radians(40)), np.sin(np.radians(40))])
+    front, back = _tube(shape, knuckle, front_tip, 15), _tube(shape, knuckle, back_tip, 15)
+    img = np.full(shape + (3,), (200, 210, 205), np.float32)
+    img[back] = (80, 110, 160)
+    img[hand | front] = (100, 140, 200)
+    img = np.clip(img + rng.normal(0, 3, img.shape), 0, 255).astype(np.uint8)
+    mask = (hand | front | back).astype(np.uint8)
+    # seeds: each finger's outer edge (the front one's upper side, the back one's lower
+    # side, half-way along), and the hand where it leaves the picture
+    along = np.linspace(0.4, 0.8, 20)[:, None]
+    up = np.array([np.sin(np.radians(20)), -np.cos(np.radians(20))])
+    down = np.array([-np.sin(np.radians(40)), np.cos(np.radians(40))])
+    front_side = knuckle + along * (front_tip - knuckle) + 14 * up
+    back_side = knuckle + along * (back_tip - knuckle) + 14 * down
+    hand_pts = np.array([[2.0, y] for y in range(85, 116)])
+    splits = split_at_inner_edge(img, mask, [front_side, back_side], hand_pts, 4)
+    # (kept the other way, the finger behind may end up apart from the hand: not offered)
+    tip = np.round(front_tip - 10 * (front_tip - knuckle) / 170).astype(int)
+    kept, removed = next((k, r) for k, r in splits if k[tip[1], tip[0]])   # the front finger's side kept
+    behind_only = back & ~front & ~hand
+    assert np.mean(kept[front | hand]) > 0.97
+    assert np.mean(kept[behind_only]) < 0.05 and np.mean(removed[behind_only]) > 0.95
