@@ -667,11 +667,11 @@ def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray
     ``sides``: the silhouette's two outer sides along the fingers (outline points
     (x, y), one array per side: each side is one finger's outer edge); ``hand``: outline
     points of the hand. Seeds ``radius`` px around those points grow over the colour
-    image (a marker watershed): a finger grown from one side and the hand from the
-    other side's finger meet where the colour changes most between them, the front
-    finger's edge across the one behind. Returns, for each side, (the silhouette of the
-    hand and that side's finger, the other side's region removed from it); not when
-    that finger ends up apart from the hand.
+    image (a marker watershed): one side's finger grown together with the hand, and the
+    other side's finger on its own, meet where the colour changes most between them,
+    the front finger's edge across the one behind. Returns, for each side, (the
+    silhouette of the hand and that side's finger, the other side's region removed from
+    it); not when that finger ends up apart from the hand.
     """
     h, w = mask.shape
     inside = mask > 0
@@ -685,6 +685,7 @@ def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray
 
     side_seeds, hand_seeds = [seeds(p) for p in sides], seeds(hand)
     outside = cv2.dilate(mask.astype(np.uint8), np.ones((3, 3), np.uint8)) == 0
+    border = border_pixels(mask.shape)
     out = []
     for keep, drop in ((0, 1), (1, 0)):
         markers = np.zeros((h, w), np.int32)
@@ -693,11 +694,12 @@ def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray
         markers[side_seeds[drop] & ~hand_seeds] = 2
         cv2.watershed(bgr, markers)
         removed = markers == 2
-        # (the watershed's lines between regions: kept, but not next to the removed one)
+        # (the watershed's lines between regions stay, unless next to the removed one);
+        # then finished as a silhouette is (``_finish``: frayed strands along the parting
+        # are opened off, and what the outside grew into, a band in its colours, bridged)
         line = (markers == -1) & (cv2.dilate(removed.astype(np.uint8), np.ones((3, 3), np.uint8)) == 0)
-        kept = (inside & ((markers == 1) | line)).astype(np.uint8)
+        kept, _ = _finish((inside & ((markers == 1) | line)).astype(np.uint8), border)
         # the finger kept must be joined to the hand (not an island cut off by the growths)
-        _, comp = cv2.connectedComponents(kept, connectivity=8)
-        if np.array_equal(np.unique(comp[side_seeds[keep] | hand_seeds]), np.unique(comp[hand_seeds])):
-            out.append((kept, removed))
+        if kept[side_seeds[keep]].mean() > 0.9:
+            out.append((kept & ~removed, removed))
     return out
