@@ -726,8 +726,9 @@ def _measure_split(work, f, seg):
         return None
     _, width, s, facing, a, b = _midline(*chains)
     wf, _ = _tip_width(width, s, facing)    # (the fingers together; sides a, b are at 1 px)
-    sides = [p[int(SPLIT_SEEDS_W[0] * wf):int(SPLIT_SEEDS_W[1] * wf)] for p in (a, b)]
-    hand = np.vstack([p[-int(SPLIT_SEEDS_W[0] * wf):] for p in (a, b)])
+    lo, hi = (max(1, int(w * wf)) for w in SPLIT_SEEDS_W)
+    sides = [p[lo:hi] for p in (a, b)]
+    hand = np.vstack([p[-lo:] for p in (a, b)])
     sure = []
     for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
@@ -943,17 +944,18 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     arms = arms_at(b)
     if arms is None:
         return fail("the arms are too short to fit lines to")
-    # (outline points next to another finger parted from this silhouette)
-    along = None if parted is None else cv2.dilate(parted.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
-    if along is not None and max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
-                                 for sn, pts in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
-        # parted from another finger, the finger's own edge across that finger must be
-        # one side of the finger's window; else the parting missed the window (it still
-        # holds both fingers together, or a stub of the hand)
-        return fail("the finger's window is not where two overlapping fingers were parted")
-    if parted is not None and 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
-            < SPLIT_MIN_THICK * wf:
-        return fail("what was parted from the finger is too thin to be another finger")
+    along = None    # outline points next to another finger parted from this silhouette
+    if parted is not None:
+        along = cv2.dilate(parted.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
+        # the finger's own edge across the other finger must be one side of the finger's
+        # window (else the parting missed the window: it still holds both fingers, or it
+        # is a stub of the hand), and what was parted must be as thick as a finger
+        if max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
+               for sn, pts in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
+            return fail("the finger's window is not where two overlapping fingers were parted")
+        if 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
+                < SPLIT_MIN_THICK * wf:
+            return fail("what was parted from the finger is too thin to be another finger")
     # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
     # a "finger" as wide as the hand is two fingers together, or not a finger at all;
     # or an object in front of the hand (a platform, a sheet) hides its underside, and

@@ -36,6 +36,7 @@ _SAME_SURFACE = 5.0         # feature distance under which two colour clusters a
 _INTERLEAVED = 0.5          # ... or when more than this share of each one's pixels lie next to the other's (a print)
 _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
+_SPLIT_KEPT = 0.8           # a silhouette parted from another finger keeps this much of the rest at least
 _GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
 
 
@@ -671,7 +672,8 @@ def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray
     other side's finger on its own, meet where the colour changes most between them,
     the front finger's edge across the one behind. Returns, for each side, (the
     silhouette of the hand and that side's finger, the other side's region removed from
-    it); not when that finger ends up apart from the hand.
+    it); not when that finger ends up apart from the hand, nor when the background
+    grew into much of the silhouette (``_SPLIT_KEPT``: its colour edges are weak).
     """
     h, w = mask.shape
     inside = mask > 0
@@ -700,6 +702,7 @@ def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray
         line = (markers == -1) & (cv2.dilate(removed.astype(np.uint8), np.ones((3, 3), np.uint8)) == 0)
         kept, _ = _finish((inside & ((markers == 1) | line)).astype(np.uint8), border)
         # the finger kept must be joined to the hand (not an island cut off by the growths)
-        if kept[side_seeds[keep]].mean() > 0.9:
+        if side_seeds[keep].any() and kept[side_seeds[keep]].mean() > 0.9 \
+                and kept.sum() >= _SPLIT_KEPT * (inside & ~removed).sum():
             out.append((kept & ~removed, removed))
     return out
