@@ -78,6 +78,8 @@ from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 WORK_SIZE = 640            # long side of the working resolution, pixels
+MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
+MIN_FINGER_PX = 4.0        # ... nor one narrower than this many pixels (a small photo)
 UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
 OK_CONFIDENCE = 0.6
 MIN_CONFIDENCE = 0.3
@@ -790,12 +792,18 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if valid.sum() < 20:
         return failed("the silhouette is too small to measure", "contour")
     wf, tip_facing = _tip_width(width, s, facing)
-    if wf < 4:
-        # (as a share of the picture's long side, the same for the photo and a reduced
-        # copy; a photo larger than the working resolution has no more to give)
-        larger = " or use a larger photo" if max(work.shape[:2]) < WORK_SIZE else ""
-        return failed(f"the finger is too thin in the picture (under {4 / max(work.shape[:2]):.1%} of its long "
-                      f"side); frame the finger closer{larger}", "contour")
+    # A finger so thin in the picture is no calibration photo's (the benchmark's smallest
+    # fingers are 2.7 % of it), while the blurred edge of a box or platform, a band a few
+    # pixels wide between two surfaces, is as thin as that and can look like a straight
+    # finger and hand (renders: 1.2-1.8 %, 45-68 deg off). (As a share of the picture's
+    # long side, the same for the photo and a reduced copy; a photo larger than the
+    # working resolution has no more to give.)
+    long_side = max(work.shape[:2])
+    min_wf = max(MIN_FINGER_PX, MIN_FINGER_SHARE * long_side)
+    if wf < min_wf:
+        larger = " or use a larger photo" if min_wf == MIN_FINGER_PX and long_side < WORK_SIZE else ""
+        return failed(f"the finger is too thin in the picture ({wf / long_side:.1%} of its long side, under "
+                      f"{min_wf / long_side:.1%}); frame the finger closer{larger}", "contour")
 
     def fail(reason, foreign=False, width_known=True, two_fingers=False):
         """A failure that knows the finger's width (unless ``width_known`` is False),

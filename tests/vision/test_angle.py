@@ -789,16 +789,48 @@ def test_an_arm_grown_into_the_whole_wall_is_no_silhouette():
 def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
     # a bent tube 3 px thick entering from the left of a 640 x 480 picture: the limit is
     # given as a share of the picture's long side (the same for the 1280 px photo it was
-    # reduced from), and a larger photo would not help (it is measured at 640 px)
+    # reduced from, and for a 320 px photo), and a larger photo would not help; only in
+    # a photo so small that the limit is a few pixels would it
     from flexcal.vision.angle import _measure_silhouette
     mask = np.zeros((480, 640), np.uint8)
     cv2.polylines(mask, [np.array([[0, 240], [300, 240], [420, 380]], np.int32)], False, 1, thickness=3)
     work = np.full((480, 640, 3), 200, np.uint8)
     m = _measure_silhouette(work, 1.0, mask, 50.0)
-    assert m.status == "failed" and "too thin" in m.reason and "0.6% of its long side" in m.reason, m.reason
+    assert m.status == "failed" and "too thin" in m.reason and "0.6% of its long side, under 2.0%" in m.reason, m.reason
     assert "larger photo" not in m.reason
     m = _measure_silhouette(work[:240, :320], 1.0, mask[::2, ::2].copy(), 50.0)
-    assert "too thin" in m.reason and "1.2% of its long side" in m.reason and "larger photo" in m.reason, m.reason
+    assert "too thin" in m.reason and "under 2.0%" in m.reason, m.reason
+    assert "larger photo" not in m.reason
+    small = np.zeros((90, 120), np.uint8)
+    cv2.polylines(small, [np.array([[0, 45], [60, 45], [85, 75]], np.int32)], False, 1, thickness=2)
+    m = _measure_silhouette(work[:90, :120], 1.0, small, 50.0)
+    assert "too thin" in m.reason and "under 3.3%" in m.reason and "larger photo" in m.reason, m.reason
+
+
+def test_the_blurred_edge_of_a_box_is_not_taken_for_a_thin_finger():
+    # the benchmark's hard render 4 (seed 2026), black glove against a grey box: with
+    # another random start of k-means (seed 3) the band of blur along the box's edge
+    # beside the hand, 1.2 % of the picture wide, was the silhouette, and measured as a
+    # finger bent 7 deg (truly 75), confidence 0.73
+    from flexcal.vision.angle import _measure_contour
+    from flexcal.vision.segment import segment_finger
+    img, _ = render_finger(74.63685589089647, shape=(960, 1280), rng=1385066308, difficulty="hard",
+                           jpeg_quality=None)
+    _, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    work = cv2.imdecode(buf, cv2.IMREAD_REDUCED_COLOR_2)
+    m = _measure_contour(work, segmented=(work, 1.0, segment_finger(work, seed=3)))
+    assert m.status == "failed" and "too thin" in m.reason, (m.angle_deg, m.reason)
+
+
+@pytest.mark.parametrize("angle", [20.0, 55.0, 85.0])
+def test_a_small_finger_in_the_picture_is_still_measured(angle):
+    # at half the renderer's usual size in a 640 x 480 picture the finger is 2.7-3.5 % of
+    # the picture's long side (the benchmark's smallest): above the limit, and measured,
+    # less precisely (half the pixels across the finger) but as its uncertainty says
+    img, t = render_finger(angle, shape=(480, 640), rng=int(angle), difficulty="clean", scale=0.5)
+    m = measure_angle(img)
+    assert m.status == "ok", m.reason
+    assert abs(m.angle_deg - t.angle_deg) <= 2 * m.angle_unc_deg and m.angle_unc_deg < 1.5
 
 
 def test_a_hand_whose_underside_a_mat_hides_is_refused_with_that_cause():
