@@ -358,6 +358,7 @@ MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel 
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
+FINGER_WINDOW_WIDTH = (0.85, 1.5)  # the finger is this many times as wide in its window as near its tip (sure answers: 0.89-1.4)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 TIP_CUT_W = 1.0          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
@@ -369,8 +370,7 @@ TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 SPLIT_SEEDS_W = (1.2, 2.5)  # two fingers' outer sides are seeded this far from the tip (widths of both together)
 SPLIT_EDGE_SHARE = 0.8   # ... and at least this share of one side of the finger's window must be where they parted
 SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
-SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident,
-SPLIT_WINDOW_WIDTH = (0.85, 1.5)  # ... its finger this many times as wide in its window as near the tip (sure answers: 0.89-1.4)
+SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
@@ -719,8 +719,10 @@ def _measure_split(work, f, seg):
     finger's window). Where the front finger is kept, its own edge parts it from the
     finger behind, and the hand is whole; kept the other way, the front finger is cut
     where the growths happen to meet, or only its tip is removed. A parting is a guess,
-    so a reading counts only without doubts and with the finger as wide in its window
-    as near its tip; when both partings give one, they must agree. The answer's
+    so a reading counts only without doubts (and, as any reading, with the finger about
+    as wide in its window as near its tip: a parting that frays the tip makes the
+    finger's width, and every window with it, too small); when both partings give one,
+    they must agree. The answer's
     uncertainty includes the parting's (``UNC_PARTED_DEG``).
     """
     chains, _ = _outline_chains(seg.mask)
@@ -734,11 +736,8 @@ def _measure_split(work, f, seg):
     sure = []
     for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
-        # the parting is itself a guess: only a reading without doubts counts, whose
-        # finger is as wide in its window as near its tip (a parting that frayed the tip
-        # makes the finger's width, and every window with it, too small)
-        if m.confidence >= SPLIT_CONFIDENCE and SPLIT_WINDOW_WIDTH[0] <= m.details["finger_window_width"] \
-                <= SPLIT_WINDOW_WIDTH[1]:
+        # the parting is itself a guess: only a reading without doubts counts
+        if m.confidence >= SPLIT_CONFIDENCE:
             sure.append(m)
     if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
                                                                                        sure[1].angle_unc_deg):
@@ -980,6 +979,15 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
                     "something is joined to it; give an ROI around the hand and finger", foreign=True)
     fin, hand = arms
+    # A finger widens a little from its tip to its knuckle (anatomy: about 1.3x); an oval
+    # poster or a pointed object widens steadily from its end, and a tip frayed by the
+    # segmentation (a parting, a band) makes the finger's width, and every window with
+    # it, too small
+    window_width = fin["width"] / wf
+    if not FINGER_WINDOW_WIDTH[0] <= window_width <= FINGER_WINDOW_WIDTH[1]:
+        return fail(f"the part taken for the finger is {window_width:.2f}x as wide near the knuckle as near its tip, "
+                    f"{'more' if window_width > 1 else 'less'} than a finger is: it may not be the finger (an oval "
+                    "or pointed object), or its tip is not whole; give an ROI around the hand and finger")
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
     angle = _bend(d_h_in, d_f_out)
@@ -1062,7 +1070,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf,
                      contrast=contrast, hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
-                     finger_edges_from_widths=fin["near"], finger_window_width=fin["width"] / wf),
+                     finger_edges_from_widths=fin["near"], finger_window_width=window_width),
     )
     return _grade(meas, reasons)
 

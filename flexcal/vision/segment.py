@@ -66,13 +66,21 @@ class Segmentation:
     def cut_off_from(self, mask, cut_off) -> np.ndarray | None:
         """Thick pieces apart from the silhouette ``mask`` (this segmentation's, or one
         rebuilt from it): what its finishing cut off (``cut_off``, or None) and the loose
-        pieces in the fingertip's colours (``_loose_pieces``)."""
+        pieces in the fingertip's colours (``_loose_pieces``), a boolean image or None.
+
+        The fingertip's colours are those near the chosen part's tip and, for a rebuilt
+        silhouette, those near its own tip: rebuilt from fewer colours, it can end at a
+        band with the rest of the finger beyond it in colours the part's tip lacks.
+        """
         if self.tip_clusters is None:
             return cut_off
-        loose = _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)
-        if loose is None or cut_off is None:
-            return cut_off if loose is None else loose
-        return loose | cut_off
+        found = [cut_off, _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)]
+        if mask is not self.mask:
+            tip, half = _fingertip(mask, border_pixels(mask.shape))
+            own = _tip_shares(mask, self.labels, tip, half, len(self.centres)) >= 0.1
+            found.append(_loose_pieces(self.fg, mask, self.labels, own, half))
+        found = [f for f in found if f is not None]
+        return np.logical_or.reduce(found) if found else None
 
     @cached_property
     def crossings(self) -> list[np.ndarray]:
