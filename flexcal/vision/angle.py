@@ -78,6 +78,7 @@ from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 WORK_SIZE = 640            # long side of the working resolution, pixels
+KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
 MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
 MIN_FINGER_PX = 4.0        # ... nor one narrower than this many pixels (a small photo)
 UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
@@ -588,7 +589,7 @@ def _segment(bgr):
     h0, w0 = bgr.shape[:2]
     f = min(1.0, WORK_SIZE / max(h0, w0))
     work = cv2.resize(bgr, (int(round(w0 * f)), int(round(h0 * f))), interpolation=cv2.INTER_AREA) if f < 1 else bgr
-    return work, f, segment_finger(work)
+    return work, f, segment_finger(work, seed=KMEANS_SEED)
 
 
 def _on_silhouette(mask, f, points, tol_px=4) -> bool:
@@ -612,7 +613,7 @@ def _measure_contour(bgr, segmented=None):
     # An unsure photo is segmented again in finer colours; a sure answer counts if that
     # silhouette mostly agrees with the first (finer colours may trim what was joined
     # to the finger or give back its rim; a silhouette mostly elsewhere is another guess).
-    finer = segment_finger(work, k=FINER_COLOURS)
+    finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
         return m
     a, b = seg.mask > 0, finer.mask > 0
