@@ -38,6 +38,7 @@ _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: 
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
 _SPLIT_KEPT = 0.8           # a silhouette parted from another finger keeps this much of the rest at least
 _GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
+_NECK = 0.25                # a loose piece joined to the silhouette only by a strip under this many half widths wide is loose
 
 
 @dataclass
@@ -330,9 +331,10 @@ def _tip_colours(part, labels, border, tip, half, tip_clusters):
 
 def _loose_pieces(fg, mask, labels, tip_clusters, half):
     """Pieces of the foreground ``fg`` in the fingertip's colours (``tip_clusters``:
-    boolean per colour cluster) outside the silhouette ``mask`` and not touching it, at
-    least half a finger width thick (``half``: its half width), within two widths of the
-    silhouette: a boolean image, or None when there is none.
+    boolean per colour cluster) outside the silhouette ``mask`` and not touching it (but
+    by a strip under ``_NECK`` half widths wide), at least half a finger width thick
+    (``half``: its half width), within two widths of the silhouette: a boolean image, or
+    None when there is none.
 
     The rest of the finger beyond a band in the background's colours is such a piece
     (apart from the part, or from a silhouette rebuilt from fewer of its colours); so is
@@ -343,6 +345,10 @@ def _loose_pieces(fg, mask, labels, tip_clusters, half):
     lut[:len(tip_clusters)] = tip_clusters
     own = cv2.bitwise_and(cv2.LUT(labels[b], lut), fg[b])
     own[mask[b] > 0] = 0
+    # a thin strip of those colours does not join a piece to the silhouette (the rim of
+    # a finger's side in the tip's colours runs on across a band)
+    r = max(1, int(round(_NECK * half)))
+    own = cv2.morphologyEx(own, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1)))
     thick = cv2.distanceTransform(own, cv2.DIST_L2, 3) >= 0.5 * half
     if not thick.any():
         return None

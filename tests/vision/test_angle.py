@@ -838,6 +838,15 @@ def test_a_stub_ending_at_a_band_is_cut_short_in_its_own_tips_colours():
     assert m.status != "ok", (m.angle_deg, m.reason)
 
 
+def test_a_stub_joined_to_the_rest_of_the_finger_by_a_thin_rim_is_cut_short(tmp_path):
+    # the same render turned by 90 deg: the stub of the hand up to the band measured
+    # sure, 54 deg off; the finger beyond the band was joined to it only by its rim, a
+    # strip a few pixels wide in the tip's colours running on across the band
+    row = _as_saved_photo(tmp_path, 54.415127118066295, 251582544, "hard",
+                          lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE))
+    assert row["status"] != "ok", (row["angle_deg"], row["reason"])
+
+
 def test_a_finger_far_wider_in_its_window_than_at_its_tip_is_not_taken(tmp_path):
     # the benchmark's clean render 38 (seed 2026): one reading found the finger 1.7x as
     # wide in its window as near its tip (its tip's width too small) and was 2.5 deg off,
