@@ -40,20 +40,26 @@ def _reduction(path: Path) -> int:
     return 1
 
 
+def photo_labels(paths) -> list[str]:
+    """Names that tell a batch's photos apart, for captions: each file's name or, when
+    stems repeat (``trial_01/images/step_01.jpg`` and ``trial_02/images/step_01.jpg``),
+    its path below the folder they all share (``trial_01/images/step_01.jpg``)."""
+    paths = [Path(p) for p in paths]
+    if len({p.stem for p in paths}) == len(paths):
+        return [p.name for p in paths]
+    absolute = [p.resolve() for p in paths]
+    common = Path(os.path.commonpath([str(a.parent) for a in absolute]))
+    return [a.relative_to(common).as_posix() for a in absolute]
+
+
 def overlay_names(paths) -> list[str]:
     """File names for the photos' overlays, unique within a batch.
 
     ``<stem>_overlay.jpg``; when stems repeat (``trial_01/images/step_01.jpg`` and
     ``trial_02/images/step_01.jpg``) the folders that tell them apart are prefixed:
-    ``trial_01__images__step_01_overlay.jpg``.
+    ``trial_01__images__step_01_overlay.jpg`` (``photo_labels``).
     """
-    paths = [Path(p) for p in paths]
-    stems = [p.stem for p in paths]
-    if len(set(stems)) == len(stems):
-        return [f"{s}_overlay.jpg" for s in stems]
-    absolute = [p.resolve() for p in paths]
-    common = Path(os.path.commonpath([str(a.parent) for a in absolute]))
-    return ["__".join(a.relative_to(common).with_suffix("").parts) + "_overlay.jpg" for a in absolute]
+    return ["__".join(Path(lab).with_suffix("").parts) + "_overlay.jpg" for lab in photo_labels(paths)]
 
 
 def measure_file(path, *, roi=None, method="auto", overlay_dir=None, overlay_name=None, thumb_w=320):
@@ -126,9 +132,8 @@ def measure_files(paths, *, roi=None, method="auto", jobs=None, overlay_dir=None
                     bar.update(1)
     df = pd.DataFrame([r for r, _ in results], columns=ANGLE_COLUMNS)
     if overlay_dir is not None and results:
-        thumbs = [(t, f"{Path(r['image']).name}: " + (f"{r['angle_deg']:.1f} deg" if np.isfinite(r["angle_deg"])
-                                                      else r["reason"]), r["status"])
-                  for r, t in results if t is not None]
+        thumbs = [(t, f"{lab}: " + (f"{r['angle_deg']:.1f} deg" if np.isfinite(r["angle_deg"]) else r["reason"]),
+                   r["status"]) for (r, t), lab in zip(results, photo_labels(paths)) if t is not None]
         if thumbs:
             sheet = contact_sheet([t for t, _, _ in thumbs], [lab for _, lab, _ in thumbs],
                                   [s for _, _, s in thumbs])

@@ -138,7 +138,7 @@ def remeasure(dirs, out_dir, *, reference=None, jobs=None, worst: int = 12, prog
 
     from flexcal import __version__
     from flexcal.capture.imagej import read_reference
-    from flexcal.measure import measure_files, overlay_names
+    from flexcal.measure import measure_files, overlay_names, photo_labels
     from flexcal.vision.overlay import contact_sheet
 
     out = Path(out_dir)
@@ -159,6 +159,7 @@ def remeasure(dirs, out_dir, *, reference=None, jobs=None, worst: int = 12, prog
     comp["difference_deg"] = np.where(answered, comp["angle_deg"] - comp["reference_deg"], np.nan)
     comp["mean_deg"] = np.where(answered, (comp["angle_deg"] + comp["reference_deg"]) / 2, np.nan)
     comp["overlay"] = [str(ov_dir / n) for n in overlay_names(images)]
+    label = dict(zip(comp["image"], photo_labels(images)))
     comp = comp.iloc[np.argsort(-comp["difference_deg"].abs().fillna(-1).to_numpy(), kind="stable")]
     comp[COMPARISON_COLUMNS].to_csv(out / "comparison.csv", index=False, float_format="%.4f")
     ba = bland_altman(comp["difference_deg"])
@@ -169,7 +170,7 @@ def remeasure(dirs, out_dir, *, reference=None, jobs=None, worst: int = 12, prog
         img = cv2.imread(r["overlay"], cv2.IMREAD_REDUCED_COLOR_2)
         if img is not None:
             thumbs.append(img)
-            labels.append(f"{Path(r['image']).name}: {r['angle_deg']:.1f} vs {r['reference_deg']:.1f} "
+            labels.append(f"{label[r['image']]}: {r['angle_deg']:.1f} vs {r['reference_deg']:.1f} "
                           f"({r['difference_deg']:+.1f})")
             states.append(r["status"])
     if thumbs:

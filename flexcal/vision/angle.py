@@ -802,8 +802,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     min_wf = max(MIN_FINGER_PX, MIN_FINGER_SHARE * long_side)
     if wf < min_wf:
         larger = " or use a larger photo" if min_wf == MIN_FINGER_PX and long_side < WORK_SIZE else ""
-        return failed(f"the finger is too thin in the picture ({wf / long_side:.1%} of its long side, under "
-                      f"{min_wf / long_side:.1%}); frame the finger closer{larger}", "contour")
+        return failed(f"the part taken for the finger is too thin ({wf / long_side:.1%} of the picture's long side, "
+                      f"under {min_wf / long_side:.1%}): a finger that small in the photo, or a thin edge or strip "
+                      f"taken for it; frame the finger closer{larger}, against a background of another colour",
+                      "contour")
 
     def fail(reason, foreign=False, width_known=True, two_fingers=False):
         """A failure that knows the finger's width (unless ``width_known`` is False),

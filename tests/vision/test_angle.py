@@ -796,15 +796,15 @@ def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
     cv2.polylines(mask, [np.array([[0, 240], [300, 240], [420, 380]], np.int32)], False, 1, thickness=3)
     work = np.full((480, 640, 3), 200, np.uint8)
     m = _measure_silhouette(work, 1.0, mask, 50.0)
-    assert m.status == "failed" and "too thin" in m.reason and "0.6% of its long side, under 2.0%" in m.reason, m.reason
+    assert m.status == "failed" and "too thin (" in m.reason and "0.6% of the picture's long side, under 2.0%" in m.reason, m.reason
     assert "larger photo" not in m.reason
     m = _measure_silhouette(work[:240, :320], 1.0, mask[::2, ::2].copy(), 50.0)
-    assert "too thin" in m.reason and "under 2.0%" in m.reason, m.reason
+    assert "too thin (" in m.reason and "under 2.0%" in m.reason, m.reason
     assert "larger photo" not in m.reason
     small = np.zeros((90, 120), np.uint8)
     cv2.polylines(small, [np.array([[0, 45], [60, 45], [85, 75]], np.int32)], False, 1, thickness=2)
     m = _measure_silhouette(work[:90, :120], 1.0, small, 50.0)
-    assert "too thin" in m.reason and "under 3.3%" in m.reason and "larger photo" in m.reason, m.reason
+    assert "too thin (" in m.reason and "under 3.3%" in m.reason and "larger photo" in m.reason, m.reason
 
 
 def _measured_with_kmeans_seed(angle, rng, difficulty, seed):
@@ -825,7 +825,7 @@ def test_the_blurred_edge_of_a_box_is_not_taken_for_a_thin_finger():
     # picture wide, was the silhouette, and measured as a finger bent 7 deg (truly 75),
     # confidence 0.73
     m = _measured_with_kmeans_seed(74.63685589089647, 1385066308, "hard", seed=3)
-    assert m.status == "failed" and "too thin" in m.reason, (m.angle_deg, m.reason)
+    assert m.status == "failed" and "too thin (" in m.reason, (m.angle_deg, m.reason)
 
 
 def test_a_stub_ending_at_a_band_is_cut_short_in_its_own_tips_colours():

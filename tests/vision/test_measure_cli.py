@@ -51,7 +51,7 @@ def test_measure_glob(tmp_path):
 
 
 def test_overlay_names_stay_unique_across_trial_folders(tmp_path):
-    from flexcal.measure import overlay_names
+    from flexcal.measure import overlay_names, photo_labels
 
     assert overlay_names([tmp_path / "a.jpg", tmp_path / "b.png"]) == ["a_overlay.jpg", "b_overlay.jpg"]
     paths = [tmp_path / t / "images" / "step_01.jpg" for t in ("trial_01", "trial_02")]
@@ -60,3 +60,6 @@ def test_overlay_names_stay_unique_across_trial_folders(tmp_path):
         p.touch()
     names = overlay_names(paths)
     assert names == ["trial_01__images__step_01_overlay.jpg", "trial_02__images__step_01_overlay.jpg"]
+    # and the contact sheet's captions tell them apart the same way
+    assert photo_labels(paths) == ["trial_01/images/step_01.jpg", "trial_02/images/step_01.jpg"]
+    assert photo_labels([tmp_path / "a.jpg", tmp_path / "b.png"]) == ["a.jpg", "b.png"]
