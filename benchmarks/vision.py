@@ -30,8 +30,8 @@ import cv2
 import numpy as np
 
 from flexcal.measure import measure_file
-from flexcal.vision import angle as vision_angle
 from flexcal.synthetic import render_finger
+from flexcal.vision import angle as vision_angle
 
 
 SUITES = ("clean", "realistic", "hard")

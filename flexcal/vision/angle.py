@@ -795,7 +795,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # A finger so thin in the picture is no calibration photo's (the benchmark's smallest
     # fingers are 2.7 % of it), while the blurred edge of a box or platform, a band a few
     # pixels wide between two surfaces, is as thin as that and can look like a straight
-    # finger and hand (renders: 1.2-1.8 %, 45-68 deg off). (As a share of the picture's
+    # finger and hand (renders, on other draws of the colour clusters: bands 1.2-1.4 % wide
+    # measured 46-68 deg off; an oval poster 1.8 %, 13 deg off). (As a share of the picture's
     # long side, the same for the photo and a reduced copy; a photo larger than the
     # working resolution has no more to give.)
     long_side = max(work.shape[:2])
