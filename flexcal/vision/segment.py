@@ -78,7 +78,7 @@ class Segmentation:
         found = [cut_off, _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)]
         if mask is not self.mask:
             tip, half = _fingertip(mask, border_pixels(mask.shape))
-            own = _tip_shares(mask, self.labels, tip, half, len(self.centres)) >= 0.1
+            own = _tip_clusters(mask, self.labels, tip, half, len(self.centres))
             found.append(_loose_pieces(self.fg, mask, self.labels, own, half))
         found = [f for f in found if f is not None]
         return np.logical_or.reduce(found) if found else None
@@ -299,12 +299,13 @@ def _fingertip(part, border):
     return tip, widest_near_tip(3 * max(half, 2.0))
 
 
-def _tip_shares(part, labels, tip, half, k):
-    """The share of each of the ``k`` colour clusters in the part within about two finger
-    widths (``half``: the finger's half width) of the tip: the fingertip's colours."""
+def _tip_clusters(part, labels, tip, half, k):
+    """The fingertip's colours: per each of the ``k`` colour clusters, whether it covers
+    at least a tenth of the part within about two finger widths (``half``: the finger's
+    half width) of the tip."""
     win, disk = _disk(tip, 4.0 * max(half, 2.0), part.shape)
     region = disk & (part[win] > 0)
-    return np.bincount(labels[win][region], minlength=k) / max(1, region.sum())
+    return np.bincount(labels[win][region], minlength=k) >= 0.1 * max(1, region.sum())
 
 
 def _tip_colours(part, labels, border, tip, half, tip_clusters):
@@ -442,7 +443,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
                             n_candidates=candidates)
     part = (comp == best).astype(np.uint8)
     tip, half = _fingertip(part, border_full)
-    tip_clusters = _tip_shares(part, labels, tip, half, k) >= 0.1
+    tip_clusters = _tip_clusters(part, labels, tip, half, k)
     filled, cut_off = _finish(_tip_colours(part, labels, border_full, tip, half, tip_clusters), border_full)
     obj = labels[filled.astype(bool)]
     fg_centre = centres[np.bincount(obj, minlength=k).argmax()]
