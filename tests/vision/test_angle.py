@@ -854,6 +854,17 @@ def test_a_finger_far_wider_in_its_window_than_at_its_tip_is_not_taken(tmp_path)
     _assert_measured(tmp_path, 37.464357869321965, 1711792829, "clean", tol=1.0)
 
 
+def test_a_finger_half_again_as_wide_in_its_window_as_at_its_tip_is_not_taken():
+    # the benchmark's hard render 30 (seed 2026), a finger bent 15 deg: with k-means'
+    # seed 4 one reading found the finger 1.48x as wide in its window as near its tip
+    # and measured 22 deg, sure (sure answers on the benchmarks go up to 1.4x)
+    truth = 15.411516371639049
+    m = _measured_with_kmeans_seed(truth, 381868374, "hard", seed=4)
+    assert m.status != "ok" or abs(m.angle_deg - truth) <= 2 * m.angle_unc_deg, (m.angle_deg, m.angle_unc_deg)
+    if m.status == "ok":
+        assert m.details["finger_window_width"] <= 1.45
+
+
 @pytest.mark.parametrize("angle", [20.0, 55.0, 85.0])
 def test_a_small_finger_in_the_picture_is_still_measured(angle):
     # at half the renderer's usual size in a 640 x 480 picture the finger is 2.7-3.5 % of
