@@ -375,7 +375,9 @@ SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
-AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union)
+AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
+ELSEWHERE = 0.5          # ... the first was no finger: joined to something, or a thin strip (then at most this
+                         # share of the finer silhouette may lie in the first)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 MAX_BEND_DEG = 120.0     # no knuckle bends further (flexion reaches about 90-100 deg)
 MIN_SIDE_STEP = 3.0      # a side of an arm whose colour step across it is under this (median) is no edge
@@ -612,12 +614,24 @@ def _measure_contour(bgr, segmented=None):
     # wall, skin can share one with a poster, or the finger's lit rim one with the wall.
     # An unsure photo is segmented again in finer colours; a sure answer counts if that
     # silhouette mostly agrees with the first (finer colours may trim what was joined
-    # to the finger or give back its rim; a silhouette mostly elsewhere is another guess).
+    # to the finger or give back its rim; a silhouette mostly elsewhere is another guess
+    # against a first that may be the finger, cut short or doubled). When the first was
+    # no hand and finger (``m.details["no_finger"]``) there is no first guess: with
+    # something joined to it (a poster at its tip, a fork, a second place where it leaves
+    # the picture), a sure answer on the finer silhouette counts, however much smaller
+    # (the finer colours parted off what was joined); when it was too thin a strip (a
+    # box's blurred edge), only a finer silhouette mostly elsewhere is another candidate
+    # (one mostly within the strip is the strip again: 2026 hard 4, 72 deg off).
     finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
         return m
     a, b = seg.mask > 0, finer.mask > 0
-    if np.sum(a & b) < AGREE_IOU * np.sum(a | b):
+    no_finger = m.details.get("no_finger")
+    if no_finger == "thin":
+        agree = np.sum(a & b) <= ELSEWHERE * np.sum(b)
+    else:
+        agree = no_finger == "joined" or np.sum(a & b) >= AGREE_IOU * np.sum(a | b)
+    if not agree:
         return m
     m2 = _measure_segmentation(work, f, finer)
     return m2 if m2.status == "ok" else m
@@ -703,6 +717,7 @@ def _measure_segmentation(work, f, seg):
     exits = _picture_exits(seg.mask) if not m else 1
     if exits > 1:
         # whatever went wrong first, this is what the user can change
+        m.details.update(no_finger="joined")
         m.reason = (f"the silhouette leaves the picture in {exits} places: the fingertip, or something joined to "
                     "the hand or finger, reaches the picture's edge; keep the fingertip in the frame, or give an "
                     "ROI around the hand and finger")
@@ -803,17 +818,21 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     min_wf = max(MIN_FINGER_PX, MIN_FINGER_SHARE * long_side)
     if wf < min_wf:
         larger = " or use a larger photo" if min_wf == MIN_FINGER_PX and long_side < WORK_SIZE else ""
-        return failed(f"the part taken for the finger is too thin ({wf / long_side:.1%} of the picture's long side, "
-                      f"under {min_wf / long_side:.1%}): a finger that small in the photo, or a thin edge or strip "
-                      f"taken for it; frame the finger closer{larger}, against a background of another colour",
-                      "contour")
+        m = failed(f"the part taken for the finger is too thin ({wf / long_side:.1%} of the picture's long side, "
+                   f"under {min_wf / long_side:.1%}): a finger that small in the photo, or a thin edge or strip "
+                   f"taken for it; frame the finger closer{larger}, against a background of another colour", "contour")
+        m.details.update(no_finger="thin")
+        return m
 
-    def fail(reason, foreign=False, width_known=True, two_fingers=False):
+    def fail(reason, foreign=False, width_known=True, two_fingers=False, joined=False):
         """A failure that knows the finger's width (unless ``width_known`` is False),
-        whether the silhouette holds something besides the hand and finger (``foreign``)
-        and whether two overlapping fingers would look so (``two_fingers``)."""
+        whether the silhouette holds something besides the hand and finger (``foreign``),
+        whether two overlapping fingers would look so (``two_fingers``) and whether it is
+        no hand and finger at all, but something joined to them (``joined``)."""
         m = failed(reason, "contour")
         m.details.update(foreign=foreign, two_fingers=two_fingers)
+        if joined:
+            m.details.update(no_finger="joined")
         if width_known:
             m.details.update(finger_width_px=wf / f)
         return m
@@ -825,13 +844,14 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                     "colours); photograph against a background of another colour")
     if _free_branches(mask, wf) > 1:
         return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                    "or finger; give an ROI around the finger or move the object", foreign=True, two_fingers=True)
+                    "or finger; give an ROI around the finger or move the object", foreign=True, two_fingers=True,
+                    joined=True)
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
         # (or the "finger" is a poster joined at the fingertip: its width is no finger's)
         return fail("too little of the hand is in the picture to measure its direction", foreign=True,
-                    width_known=False)
+                    width_known=False, joined=True)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly
     # leaves the real bend inside one of the two straight segments.
