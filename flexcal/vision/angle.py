@@ -6,7 +6,7 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 2. walk its outline from the fingertip (the outline point farthest from where the
    hand leaves the picture) back to the picture's edge, along both sides (refused when
    a thick piece that the finishing cut off, or a thick piece in the fingertip's
-   colours apart from the silhouette, lies within a finger width ahead of that tip: the
+   colours apart from the silhouette, lies within 1.5 finger widths ahead of that tip: the
    finger was cut short at a band, and its bend is not in the silhouette);
 3. pair each point of one side with the nearest point of the other: the midpoints are
    the finger's and hand's midline, their distances the local width (the finger's
@@ -362,7 +362,8 @@ MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the c
 FINGER_WINDOW_WIDTH = (0.85, 1.45)  # the finger is this many times as wide in its window as near its tip (sure answers: 0.89-1.4)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
-TIP_CUT_W = 1.0          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
+TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
+                         # (a tape band is about a finger width wide; the finger beyond it starts further)
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
