@@ -44,7 +44,9 @@ on the skin, whose lit side is in the background's colours: the rebuilt silhouet
 tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
 segmented again in finer colours (nine clusters, not six: posters on the wall use
 clusters up); a sure answer on that silhouette counts when it mostly agrees with the
-first (intersection over union at least 0.85).
+first (intersection over union at least 0.85), or when the first was no hand and finger:
+joined to something (the finer colours may part it off), or a strip too thin for a
+finger (then only a finer silhouette mostly elsewhere).
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
