@@ -45,8 +45,8 @@ tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
 segmented again in finer colours (nine clusters, not six: posters on the wall use
 clusters up); a sure answer on that silhouette counts when it mostly agrees with the
 first (intersection over union at least 0.85), or when the first was no hand and finger:
-joined to something (the finer colours may part it off), or a strip too thin for a
-finger (then only a finer silhouette mostly elsewhere).
+joined to something (the finer colours may part it off), a strip too thin for a
+finger (then only a finer silhouette mostly elsewhere), or no part at all.
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
@@ -611,7 +611,7 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 def _measure_contour(bgr, segmented=None):
     work, f, seg = segmented if segmented is not None else _segment(bgr)
     m = _measure_segmentation(work, f, seg)
-    if m.status == "ok" or seg.mask is None or seg.shadow_is_finger:
+    if m.status == "ok" or seg.shadow_is_finger:
         return m
     # How many colours the picture holds is a guess (six clusters); with a cluttered
     # wall, skin can share one with a poster, or the finger's lit rim one with the wall.
@@ -624,18 +624,21 @@ def _measure_contour(bgr, segmented=None):
     # the picture), a sure answer on the finer silhouette counts, however much smaller
     # (the finer colours parted off what was joined); when it was too thin a strip (a
     # box's blurred edge), only a finer silhouette mostly elsewhere is another candidate
-    # (one mostly within the strip is the strip again: 2026 hard 4, 72 deg off).
+    # (one mostly within the strip is the strip again: 2026 hard 4, 72 deg off). When
+    # the first found no part at all, a sure answer on the finer one counts (a sleeve
+    # of a poster's colour becomes a part of its own: 5000 hard 52).
     finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
         return m
-    a, b = seg.mask > 0, finer.mask > 0
-    no_finger = m.details.get("no_finger")
-    if no_finger == "thin":
-        agree = np.sum(a & b) <= ELSEWHERE * np.sum(b)
-    else:
-        agree = no_finger == "joined" or np.sum(a & b) >= AGREE_IOU * np.sum(a | b)
-    if not agree:
-        return m
+    if seg.mask is not None:
+        a, b = seg.mask > 0, finer.mask > 0
+        no_finger = m.details.get("no_finger")
+        if no_finger == "thin":
+            agree = np.sum(a & b) <= ELSEWHERE * np.sum(b)
+        else:
+            agree = no_finger == "joined" or np.sum(a & b) >= AGREE_IOU * np.sum(a | b)
+        if not agree:
+            return m
     m2 = _measure_segmentation(work, f, finer)
     return m2 if m2.status == "ok" else m
 
