@@ -138,9 +138,10 @@ def _classify(bgr, labels_small, centres):
     k3 = np.ones((3, 3), np.uint8)
     mixed = cv2.dilate(labels_small, k3) != cv2.erode(labels_small, k3)
     mixed = cv2.resize(mixed.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
-    fe = colour_features(cv2.GaussianBlur(bgr, (3, 3), 0)[mixed])
+    at = np.flatnonzero(mixed)      # (taking by index is faster than a boolean mask)
+    fe = colour_features(np.take(cv2.GaussianBlur(bgr, (3, 3), 0).reshape(-1, 3), at, axis=0))
     d2 = (centres ** 2).sum(axis=1)[None, :] - 2.0 * (fe @ centres.T)   # |f - c|^2 - |f|^2
-    labels[mixed] = d2.argmin(axis=1)
+    labels.reshape(-1)[at] = d2.argmin(axis=1)
     return labels
 
 
@@ -201,21 +202,38 @@ def _arm_radius(part) -> float:
     return float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
 
 
+def _on_border(img, border):
+    """The 8-connected pieces of the 0/1 uint8 image ``img``: (labels image, border pixels
+    per label, the labels of the pieces that touch ``border``, in order).
+
+    Only the pieces on the border are looked at one by one (``_pixels``): OpenCV's
+    statistics of every piece (``connectedComponentsWithStats``) cost several times the
+    labelling, for the specks of a textured wall too.
+    """
+    n, comp = cv2.connectedComponents(img, connectivity=8)
+    touching = np.bincount(comp[border], minlength=n)
+    return comp, touching, np.nonzero(touching[1:])[0] + 1
+
+
+def _pixels(comp, j):
+    """Piece ``j`` of the labels image ``comp``: (uint8 mask, its area in pixels)."""
+    piece = (comp == j).view(np.uint8)
+    return piece, cv2.countNonZero(piece)
+
+
 def _pick(fg, border):
     """The most finger-like connected part of ``fg`` that touches the border.
 
     Returns (label, labels image, number of candidates); label None when there is none.
     """
     h, w = fg.shape
-    n, comp, stats, _ = cv2.connectedComponentsWithStats(fg, connectivity=8)
-    # border pixels per part, counted once for all parts
-    touching = np.bincount(comp[border], minlength=n)
+    comp, touching, on_border = _on_border(fg, border)
     best, best_score, candidates = None, 0.0, 0
-    for i in range(1, n):
-        area = stats[i, cv2.CC_STAT_AREA]
-        if area < 0.004 * h * w or touching[i] == 0:
+    for i in on_border:
+        piece, area = _pixels(comp, i)
+        if area < 0.004 * h * w:
             continue
-        x, y, bw, bh = (stats[i, c] for c in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+        x, y, bw, bh = cv2.boundingRect(piece)
         # its bounding box with a pixel of margin, so that the distance transform sees
         # the same background around it as in the whole picture
         ya, xa = max(0, y - 1), max(0, x - 1)
@@ -255,20 +273,15 @@ def _free_end(part, border):
 
 
 def _pieces_in(part, keep, bridge_px):
-    """Connected pieces (n, labels image, stats) of ``part`` within ``keep`` (boolean per
-    pixel), after closing gaps up to about ``bridge_px`` wide (what crosses the arm in
-    other colours: the strip, tape). (Row 0 of the stats, the background's, is of the
-    box worked on only.)"""
+    """Connected pieces of ``part`` within ``keep`` (boolean per pixel), after closing
+    gaps up to about ``bridge_px`` wide (what crosses the arm in other colours: the
+    strip, tape), as a 0/1 uint8 image."""
     d = max(3, int(round(bridge_px)) | 1)
     own = (keep & (part > 0)).astype(np.uint8)
     b = box(own, d + 2)
-    own = close_ellipse(own[b], d) & part[b]
-    n, sub, stats, _ = cv2.connectedComponentsWithStats(own, connectivity=8)
-    comp = np.zeros(part.shape, np.int32)
-    comp[b] = sub
-    stats[:, cv2.CC_STAT_LEFT] += b[1].start
-    stats[:, cv2.CC_STAT_TOP] += b[0].start
-    return n, comp, stats
+    out = np.zeros(part.shape, np.uint8)
+    out[b] = close_ellipse(own[b], d) & part[b]
+    return out
 
 
 def _disk(centre, radius, shape):
@@ -322,7 +335,7 @@ def _tip_colours(part, labels, border, tip, half, tip_clusters):
     # leaves at a slant); much more is something else joined to the hand
     if int((part & border).sum()) <= 3 * 2 * half:
         return part
-    _, comp, _ = _pieces_in(part, tip_clusters[labels], half)
+    _, comp = cv2.connectedComponents(_pieces_in(part, tip_clusters[labels], half), connectivity=8)
     j = comp[tip[0], tip[1]]
     if j == 0:
         return part
@@ -470,7 +483,7 @@ def _finish(mask, border):
     shape, mask, border = mask.shape, mask[b], border[b]
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * rad + 1, 2 * rad + 1))
     opened = cv2.morphologyEx(mask, cv2.MORPH_OPEN, disk)
-    piece = _largest_on_border(*cv2.connectedComponentsWithStats(opened, connectivity=8)[:3], border)
+    piece = _largest_on_border(opened, border)
     if piece is not None:
         mask = piece
     # Close notches narrower than half the arm (tape or a strap in a background colour
@@ -660,20 +673,18 @@ def forearm_colours(seg: Segmentation, keep, within=None) -> tuple[np.ndarray, n
     """
     domain = np.ones(keep.shape, np.uint8) if within is None else within.astype(np.uint8)
     border = border_pixels(keep.shape)
-    piece = _largest_on_border(*_pieces_in(domain, keep, seg.part_radius), border)
+    piece = _largest_on_border(_pieces_in(domain, keep, seg.part_radius), border)
     if piece is None or (within is None and _arm_radius(piece) > _GROWN_THICKER * seg.part_radius):
         return None     # grown into the wall (of a colour close to the skin's): no arm
     return _finish(piece, border)
 
 
-def _largest_on_border(n, comp, stats, border):
-    """The largest connected piece (of ``n`` labelled in ``comp``) that touches the
-    picture's border, as a uint8 mask; None when none does."""
-    touching = np.bincount(comp[border], minlength=n)
-    keep = [j for j in range(1, n) if touching[j]]
-    if not keep:
-        return None
-    return (comp == max(keep, key=lambda j: stats[j, cv2.CC_STAT_AREA])).astype(np.uint8)
+def _largest_on_border(img, border):
+    """The largest 8-connected piece of the 0/1 uint8 image ``img`` that touches the
+    picture's ``border``, as a uint8 mask; None when none does."""
+    comp, _, on_border = _on_border(img, border)
+    pieces = [_pixels(comp, j) for j in on_border]
+    return max(pieces, key=lambda pa: pa[1])[0] if pieces else None
 
 
 def split_at_inner_edge(bgr, mask, sides, hand, radius) -> list[tuple[np.ndarray, np.ndarray]]:
