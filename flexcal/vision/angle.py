@@ -1127,14 +1127,15 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
     n, comp, stats, cents = cv2.connectedComponentsWithStats(sat.astype(np.uint8), connectivity=8)
     dots = []
     min_area = max(6, 1e-5 * h0 * w0)
-    for i in range(1, n):
-        a = stats[i, cv2.CC_STAT_AREA]
-        bw, bh = stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
-        if a < min_area or a > 0.002 * h0 * w0:
-            continue
-        fill = a / (np.pi / 4 * bw * bh)   # 1 for a disc, 1.27 for a square
-        if not (0.75 < bw / max(bh, 1) < 1.33 and 0.85 < fill < 1.12) or min(bw, bh) < 0.008 * min(h0, w0):
-            continue
+    # blobs of a dot's size, about as wide as high, filling a disc (1 for a disc, 1.27
+    # for a square) and not too small: all pieces at once (a wall can hold hundreds)
+    area, wide, high = (stats[:, c].astype(float) for c in (cv2.CC_STAT_AREA, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+    fill = area / (np.pi / 4 * wide * high)
+    aspect = wide / np.maximum(high, 1)
+    round_dot = ((area >= min_area) & (area <= 0.002 * h0 * w0) & (aspect > 0.75) & (aspect < 1.33)
+                 & (fill > 0.85) & (fill < 1.12) & (np.minimum(wide, high) >= 0.008 * min(h0, w0)))
+    for i in np.nonzero(round_dot[1:])[0] + 1:
+        a, bw, bh = stats[i, cv2.CC_STAT_AREA], stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
         # the centroid of the saturation-weighted blob is sub-pixel
         x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
         patch = (comp[y0:y0 + bh, x0:x0 + bw] == i) * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
