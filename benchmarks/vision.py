@@ -1,7 +1,7 @@
 """Accuracy and speed of flexcal.vision on seeded rendered suites.
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard]
-                                [--details results.csv] [--orientations] [--kmeans-seed 0]
+                                [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
@@ -15,7 +15,9 @@ holds in any orientation answers them alike; k-means starts and JPEG blocks diff
 this also shows how much an answer hangs on the particular photo. ``--kmeans-seed``
 measures the same photos with another random start of the colour clustering: another
 draw of colour clusters, as another photo of the scene could give; the share answered
-and any silent error on several draws say more than one draw does.
+and any silent error on several draws say more than one draw does. ``--markers`` renders
+three coloured dots on every finger (proximal, joint, distal) and prints, per suite, the
+share measured from the dots (the rest from the outline).
 """
 
 from __future__ import annotations
@@ -44,12 +46,13 @@ ORIENTATIONS = {"": lambda im: im,
                 "mirror": lambda im: np.ascontiguousarray(im[:, ::-1])}
 
 
-def run_suite(difficulty, n, shape, seed, tmp, orientations=False):
+def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False):
     rng = np.random.default_rng(seed)
     files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
-        img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None)
+        img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None,
+                               markers=markers)
         # the truth's angle and vertex under their own names, beside the measured ones
         # (the vertex of the render as drawn, not turned)
         p = {(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v for k, v in t.as_dict().items()}
@@ -79,6 +82,7 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False):
         "answered": answered.mean(), "gross>5": int((err > 5).sum()),
         "within2sigma": float(np.mean(err <= 2 * unc[answered])) if err.size else np.nan,
         "img/s": len(files) / dt, "details": details,
+        "by markers": float(np.mean([r["method"] == "markers" for r in rows])),
     }
 
 
@@ -95,6 +99,8 @@ def main(argv=None):
     ap.add_argument("--details", type=Path, help="write one row per render to this CSV")
     ap.add_argument("--orientations", action="store_true",
                     help="also measure each render turned by 90, 180 and 270 deg and mirrored (5 photos each)")
+    ap.add_argument("--markers", action="store_true",
+                    help="render three coloured marker dots on every finger; prints the share measured from them")
     args = ap.parse_args(argv)
     vision_angle.KMEANS_SEED = args.kmeans_seed
     details = []
@@ -108,9 +114,10 @@ def main(argv=None):
             if suite not in SUITES:
                 ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
-            r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations)
+            r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers)
             print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
-                  f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}", flush=True)
+                  f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}"
+                  + (f"   from the dots: {r['by markers']:.0%}" if args.markers else ""), flush=True)
             details += r["details"]
     if args.details:
         with open(args.details, "w", newline="") as fh:

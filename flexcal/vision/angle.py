@@ -59,8 +59,9 @@ The uncertainty combines the line fits' statistical errors (inflated for correla
 residuals along an edge), the spread of the answer when the knuckle is moved within
 its likely range, and a floor for what the method cannot resolve.
 
-Method ``markers``: three coloured dots on the finger (proximal, joint, distal); the
-joint dot is the one opposite the triangle's longest side.
+Method ``markers``: three coloured dots on the finger (proximal, joint, distal), found
+as round blobs more saturated than their surroundings (``find_markers``); the joint dot
+is the one opposite the triangle's longest side.
 """
 
 from __future__ import annotations
@@ -79,6 +80,8 @@ from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm
 
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
+MAX_DOT_AREA = 0.002      # a marker dot covers at most this share of the picture
+DOT_STANDS_OUT = 60.0     # ... and is this much more saturated (of 255) than its surroundings
 WORK_SIZE = 640            # long side of the working resolution, pixels
 KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
 MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
@@ -1120,11 +1123,24 @@ def _grade(meas: AngleMeasurement, reasons) -> AngleMeasurement:
 # --------------------------------------------------------------------------- markers
 
 def find_markers(bgr, *, min_saturation=120, max_dots=12):
-    """Centres (x, y) and radii of small, round, strongly coloured dots."""
+    """Centres (x, y) and radii of small, round, strongly coloured dots that stand out
+    from what they are stuck on.
+
+    A dot is more saturated than its surroundings (the mean over three of the largest
+    dot's widths) by ``DOT_STANDS_OUT``: skin can be saturated itself (tanned or dark
+    skin reaches 110-140 of 255 in HSV), and a fixed threshold would join the dots to
+    the finger. Of the round blobs so found, a dot is less saturated all round (a ring
+    from 1.5 to 2.5 radii): the corner of a poster or a mat is not.
+    """
     h0, w0 = bgr.shape[:2]
     hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
-    sat = (hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60)
-    n, comp, stats, cents = cv2.connectedComponentsWithStats(sat.astype(np.uint8), connectivity=8)
+    s = hsv[..., 1]
+    k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
+    around = cv2.blur(s.astype(np.float32), (k, k), borderType=cv2.BORDER_REFLECT)
+    sat = ((s >= min_saturation) & (hsv[..., 2] >= 60) & (s >= around + DOT_STANDS_OUT)).astype(np.uint8)
+    # JPEG's colour noise in dark skin next to a dot stands out too: specks off
+    sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
+    n, comp, stats, cents = cv2.connectedComponentsWithStats(sat, connectivity=8)
     dots = []
     min_area = max(6, 1e-5 * h0 * w0)
     # blobs of a dot's size, about as wide as high, filling a disc (1 for a disc, 1.27
@@ -1132,16 +1148,24 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
     area, wide, high = (stats[:, c].astype(float) for c in (cv2.CC_STAT_AREA, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
     fill = area / (np.pi / 4 * wide * high)
     aspect = wide / np.maximum(high, 1)
-    round_dot = ((area >= min_area) & (area <= 0.002 * h0 * w0) & (aspect > 0.75) & (aspect < 1.33)
+    round_dot = ((area >= min_area) & (area <= MAX_DOT_AREA * h0 * w0) & (aspect > 0.75) & (aspect < 1.33)
                  & (fill > 0.85) & (fill < 1.12) & (np.minimum(wide, high) >= 0.008 * min(h0, w0)))
     for i in np.nonzero(round_dot[1:])[0] + 1:
         a, bw, bh = stats[i, cv2.CC_STAT_AREA], stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
         # the centroid of the saturation-weighted blob is sub-pixel
         x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
-        patch = (comp[y0:y0 + bh, x0:x0 + bw] == i) * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
+        blob = comp[y0:y0 + bh, x0:x0 + bw] == i
+        patch = blob * s[y0:y0 + bh, x0:x0 + bw].astype(float)
         yy, xx = np.mgrid[0:bh, 0:bw]
         cx, cy = (patch * xx).sum() / patch.sum() + x0, (patch * yy).sum() / patch.sum() + y0
-        dots.append((cx, cy, np.sqrt(a / np.pi)))
+        r = np.sqrt(a / np.pi)
+        ya, yb = max(0, int(cy - 2.5 * r)), min(h0, int(cy + 2.5 * r) + 2)
+        xa, xb = max(0, int(cx - 2.5 * r)), min(w0, int(cx + 2.5 * r) + 2)
+        d2 = (np.arange(ya, yb)[:, None] - cy) ** 2 + (np.arange(xa, xb)[None, :] - cx) ** 2
+        ring = s[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)]
+        if ring.size and np.percentile(ring, 90) > np.median(s[y0:y0 + bh, x0:x0 + bw][blob]) - DOT_STANDS_OUT:
+            continue
+        dots.append((cx, cy, r))
     return dots[:max_dots]
 
 

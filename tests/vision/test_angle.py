@@ -6,6 +6,7 @@ import pytest
 
 from flexcal.synthetic import render_finger
 from flexcal.vision import as_bgr8, draw_overlay, contact_sheet, measure_angle
+from flexcal.vision.angle import find_markers
 
 SHAPE = (480, 640)
 
@@ -100,6 +101,23 @@ def test_marker_method():
     assert measure_angle(img).method == "markers"           # auto picks the dots
     plain, _ = render_finger(63.0, shape=SHAPE, rng=3)
     assert measure_angle(plain, method="markers").status == "failed"
+
+
+@pytest.mark.parametrize("seed", [0, 4, 5, 7])
+def test_marker_dots_on_saturated_skin_are_found(seed):
+    # tanned skin is saturated itself (HSV saturation 125-135 of 255 near the dots in
+    # these renders): dots found by a fixed saturation threshold joined the finger and
+    # none was found; a dot is found as more saturated than its surroundings
+    angle = float(np.random.default_rng(seed).uniform(0, 90))
+    img, truth = render_finger(angle, rng=seed, markers=True)
+    hsv = cv2.cvtColor(img, cv2.COLOR_BGR2HSV)
+    x, y = truth.markers_xy[1].astype(int)
+    assert np.median(hsv[y - 40:y + 41, x - 40:x + 41, 1]) >= 120     # the case in point
+    dots = np.array([d[:2] for d in find_markers(img)])
+    assert len(dots) == 3
+    assert all(np.min(np.hypot(*(dots - t).T)) < 1.0 for t in truth.markers_xy)
+    m = measure_angle(img)
+    assert m.method == "markers" and m.angle_deg == pytest.approx(angle, abs=0.5)
 
 
 @pytest.mark.parametrize("image,why", [
