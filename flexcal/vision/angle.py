@@ -60,8 +60,8 @@ residuals along an edge), the spread of the answer when the knuckle is moved wit
 its likely range, and a floor for what the method cannot resolve.
 
 Method ``markers``: three coloured dots on the finger (proximal, joint, distal), found
-as round blobs more saturated than their surroundings (``find_markers``); the joint dot
-is the one opposite the triangle's longest side.
+as round, strongly coloured blobs that differ in colour from all round them
+(``find_markers``); the joint dot is the one opposite the triangle's longest side.
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 MAX_DOT_AREA = 0.002      # a marker dot covers at most this share of the picture
-DOT_STANDS_OUT = 60.0     # ... and is this much more saturated (of 255) than its surroundings
+DOT_STANDS_OUT = 30.0     # ... and this far in colour (CIELAB a*b*, 8 bit) from its surroundings
 WORK_SIZE = 640            # long side of the working resolution, pixels
 KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
 MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
@@ -1124,20 +1124,22 @@ def _grade(meas: AngleMeasurement, reasons) -> AngleMeasurement:
 
 def find_markers(bgr, *, min_saturation=120, max_dots=12):
     """Centres (x, y) and radii of small, round, strongly coloured dots that stand out
-    from what they are stuck on.
+    in colour from what they are stuck on.
 
-    A dot is more saturated than its surroundings (the mean over three of the largest
-    dot's widths) by ``DOT_STANDS_OUT``: skin can be saturated itself (tanned or dark
-    skin reaches 110-140 of 255 in HSV), and a fixed threshold would join the dots to
-    the finger. Of the round blobs so found, a dot is less saturated all round (a ring
-    from 1.5 to 2.5 radii): the corner of a poster or a mat is not.
+    A dot is strongly coloured (HSV saturation at least ``min_saturation``) and its
+    colour (CIELAB a*, b*) is at least ``DOT_STANDS_OUT`` from the mean colour around it
+    (over three of the largest dot's widths): skin can be saturated itself (tanned skin
+    reaches 110-140 of 255 in HSV) and so can a glove, and a saturation threshold alone
+    joins the dots to the finger. Of the round blobs so found, a dot differs as much from
+    nearly all round it (a ring of 1.5 to 2.5 radii): a corner of a poster or of a
+    cutting mat does not.
     """
     h0, w0 = bgr.shape[:2]
     hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
-    s = hsv[..., 1]
+    ab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)[..., 1:].astype(np.float32)
     k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
-    around = cv2.blur(s.astype(np.float32), (k, k), borderType=cv2.BORDER_REFLECT)
-    sat = ((s >= min_saturation) & (hsv[..., 2] >= 60) & (s >= around + DOT_STANDS_OUT)).astype(np.uint8)
+    stands_out = np.hypot(*(ab - cv2.blur(ab, (k, k), borderType=cv2.BORDER_REFLECT)).transpose(2, 0, 1))
+    sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & (stands_out >= DOT_STANDS_OUT)).astype(np.uint8)
     # JPEG's colour noise in dark skin next to a dot stands out too: specks off
     sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
     n, comp, stats, cents = cv2.connectedComponentsWithStats(sat, connectivity=8)
@@ -1155,15 +1157,16 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
         # the centroid of the saturation-weighted blob is sub-pixel
         x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
         blob = comp[y0:y0 + bh, x0:x0 + bw] == i
-        patch = blob * s[y0:y0 + bh, x0:x0 + bw].astype(float)
+        patch = blob * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
         yy, xx = np.mgrid[0:bh, 0:bw]
         cx, cy = (patch * xx).sum() / patch.sum() + x0, (patch * yy).sum() / patch.sum() + y0
         r = np.sqrt(a / np.pi)
         ya, yb = max(0, int(cy - 2.5 * r)), min(h0, int(cy + 2.5 * r) + 2)
         xa, xb = max(0, int(cx - 2.5 * r)), min(w0, int(cx + 2.5 * r) + 2)
         d2 = (np.arange(ya, yb)[:, None] - cy) ** 2 + (np.arange(xa, xb)[None, :] - cx) ** 2
-        ring = s[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)]
-        if ring.size and np.percentile(ring, 90) > np.median(s[y0:y0 + bh, x0:x0 + bw][blob]) - DOT_STANDS_OUT:
+        ring = ab[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)]
+        own = np.median(ab[y0:y0 + bh, x0:x0 + bw][blob], axis=0)
+        if len(ring) and np.percentile(np.hypot(*(ring - own).T), 10) < DOT_STANDS_OUT:
             continue
         dots.append((cx, cy, r))
     return dots[:max_dots]
