@@ -81,7 +81,7 @@ from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 MAX_DOT_AREA = 0.002      # a marker dot covers at most this share of the picture
-DOT_STANDS_OUT = 30.0     # ... and this far in colour (CIELAB a*b*, 8 bit) from its surroundings
+DOT_STANDS_OUT = 30       # ... and this far in colour (CIELAB a*b*, 8 bit) from its surroundings
 WORK_SIZE = 640            # long side of the working resolution, pixels
 KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
 MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
@@ -1136,10 +1136,13 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
     """
     h0, w0 = bgr.shape[:2]
     hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
-    ab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)[..., 1:].astype(np.float32)
+    lab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)
     k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
-    stands_out = np.hypot(*(ab - cv2.blur(ab, (k, k), borderType=cv2.BORDER_REFLECT)).transpose(2, 0, 1))
-    sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & (stands_out >= DOT_STANDS_OUT)).astype(np.uint8)
+    # (in 8 bit and integers: a float colour image costs several times as much)
+    diff = cv2.subtract(lab, cv2.blur(lab, (k, k), borderType=cv2.BORDER_REFLECT), dtype=cv2.CV_16S).astype(np.int32)
+    stands_out = diff[..., 1] ** 2 + diff[..., 2] ** 2 >= DOT_STANDS_OUT ** 2
+    sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & stands_out).astype(np.uint8)
+    ab = lab[..., 1:]
     # JPEG's colour noise in dark skin next to a dot stands out too: specks off
     sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
     n, comp, stats, cents = cv2.connectedComponentsWithStats(sat, connectivity=8)
@@ -1164,7 +1167,7 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
         ya, yb = max(0, int(cy - 2.5 * r)), min(h0, int(cy + 2.5 * r) + 2)
         xa, xb = max(0, int(cx - 2.5 * r)), min(w0, int(cx + 2.5 * r) + 2)
         d2 = (np.arange(ya, yb)[:, None] - cy) ** 2 + (np.arange(xa, xb)[None, :] - cx) ** 2
-        ring = ab[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)]
+        ring = ab[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)].astype(float)
         own = np.median(ab[y0:y0 + bh, x0:x0 + bw][blob], axis=0)
         if len(ring) and np.percentile(np.hypot(*(ring - own).T), 10) < DOT_STANDS_OUT:
             continue
