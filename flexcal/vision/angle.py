@@ -1137,15 +1137,15 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
     h0, w0 = bgr.shape[:2]
     hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
     lab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)
+    ab = lab[..., 1:]
     k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
     # (in 8 bit and integers: a float colour image costs several times as much)
     diff = cv2.subtract(lab, cv2.blur(lab, (k, k), borderType=cv2.BORDER_REFLECT), dtype=cv2.CV_16S).astype(np.int32)
     stands_out = diff[..., 1] ** 2 + diff[..., 2] ** 2 >= DOT_STANDS_OUT ** 2
     sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & stands_out).astype(np.uint8)
-    ab = lab[..., 1:]
     # JPEG's colour noise in dark skin next to a dot stands out too: specks off
     sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
-    n, comp, stats, cents = cv2.connectedComponentsWithStats(sat, connectivity=8)
+    _, comp, stats, _ = cv2.connectedComponentsWithStats(sat, connectivity=8)
     dots = []
     min_area = max(6, 1e-5 * h0 * w0)
     # blobs of a dot's size, about as wide as high, filling a disc (1 for a disc, 1.27
