@@ -1,6 +1,6 @@
 """Accuracy and speed of flexcal.vision on seeded rendered suites.
 
-    python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard]
+    python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn]
                                 [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
@@ -9,6 +9,9 @@ over 5 deg), the share whose true angle lies within 2 sigma, and images per seco
 process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
 back, as a user's photos would be. ``--details`` writes one row per render (truth, answer,
 uncertainty, status, reason and the render's nuisances) to find what fails.
+The suites clean, realistic and hard are ``flexcal.synthetic.render_finger``'s presets;
+drawn is ``flexcal.synthetic.drawn``: fingers drawn another way, which the method was not
+built on, to show whether it holds beyond the renderer it was developed with.
 ``--orientations`` measures every render also turned by 90, 180 and 270 deg and
 mirrored (suites named ``clean x5`` and so on): the bend is the same, and a method that
 holds in any orientation answers them alike; k-means starts and JPEG blocks differ, so
@@ -33,10 +36,11 @@ import numpy as np
 
 from flexcal.measure import measure_file
 from flexcal.synthetic import render_finger
+from flexcal.synthetic.drawn import draw_finger
 from flexcal.vision import angle as vision_angle
 
 
-SUITES = ("clean", "realistic", "hard")
+SUITES = ("clean", "realistic", "hard", "drawn")    # drawn: flexcal.synthetic.drawn, not the renderer
 
 # the same photo turned and mirrored: the bend is the same (--orientations)
 ORIENTATIONS = {"": lambda im: im,
@@ -51,8 +55,11 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
-        img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty, jpeg_quality=None,
-                               markers=markers)
+        if difficulty == "drawn":   # a photo-like drawing, compressed once already
+            img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)))
+        else:
+            img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty,
+                                   jpeg_quality=None, markers=markers)
         # the truth's angle and vertex under their own names, beside the measured ones
         # (the vertex of the render as drawn, not turned)
         p = {(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v for k, v in t.as_dict().items()}
@@ -90,8 +97,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100)
     ap.add_argument("--size", default="1280x960")
-    ap.add_argument("--suites", default=",".join(SUITES),
-                    help="comma-separated; each suite renders the same photos whichever others are run")
+    ap.add_argument("--suites", help="comma-separated, of " + ", ".join(SUITES) + " (default: all; with --markers, "
+                    "the renderer's); each suite renders the same photos whichever others are run")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--kmeans-seed", type=int, default=0,
                     help="random start of the colour clustering (0, as `flexcal measure` uses); other values are "
@@ -110,9 +117,12 @@ def main(argv=None):
     print(f"{'suite':<12} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
-        for suite in args.suites.split(","):
+        suites = args.suites.split(",") if args.suites else [s for s in SUITES if not (args.markers and s == "drawn")]
+        for suite in suites:
             if suite not in SUITES:
                 ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
+            if args.markers and suite == "drawn":
+                ap.error("--markers: the drawn suite has no marker dots; choose from clean, realistic, hard")
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
             r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers)
             print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
