@@ -18,7 +18,8 @@ from PIL import Image
 from tqdm import tqdm
 
 from flexcal.capture.images import read_image
-from flexcal.vision.angle import WORK_SIZE, AngleMeasurement, failed, measure_angle
+from flexcal.vision.angle import WORK_SIZE, measure_angle
+from flexcal.vision.measurement import AngleMeasurement, failed
 from flexcal.vision.overlay import contact_sheet, draw_overlay
 
 ANGLE_COLUMNS = ["image", "angle_deg", "angle_unc_deg", "confidence", "status", "reason", "method",

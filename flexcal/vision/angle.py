@@ -59,14 +59,11 @@ The uncertainty combines the line fits' statistical errors (inflated for correla
 residuals along an edge), the spread of the answer when the knuckle is moved within
 its likely range, and a floor for what the method cannot resolve.
 
-Method ``markers``: three coloured dots on the finger (proximal, joint, distal), found
-as round, strongly coloured blobs that differ in colour from all round them
-(``find_markers``); the joint dot is the one opposite the triangle's longest side.
+Method ``markers``: three coloured dots on the finger (``markers.py``); ``auto`` uses
+them when they lie on the silhouette and are stickers, not specks.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
@@ -75,13 +72,13 @@ from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import colour_steps, cut_contrast, inward_normals, skin_edge
+from flexcal.vision.markers import measure_markers
+from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger, split_at_inner_edge)
 
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
-MAX_DOT_AREA = 0.002      # a marker dot covers at most this share of the picture
-DOT_STANDS_OUT = 30       # ... and this far in colour (CIELAB a*b*, 8 bit) from its surroundings
 WORK_SIZE = 640            # long side of the working resolution, pixels
 KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
 MIN_FINGER_SHARE = 0.02    # a finger narrower than this share of the picture's long side is not measured ...
@@ -89,70 +86,6 @@ MIN_FINGER_PX = 4.0        # ... nor one narrower than this many pixels (a small
 UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
 OK_CONFIDENCE = 0.6
 MIN_CONFIDENCE = 0.3
-
-
-@dataclass
-class Arm:
-    """A fitted arm: a point on its axis and the unit direction pointing away from the vertex."""
-
-    point: np.ndarray
-    direction: np.ndarray
-    length_px: float
-
-    def segment(self, vertex):
-        return np.asarray(vertex), np.asarray(vertex) + self.direction * self.length_px
-
-
-@dataclass
-class AngleMeasurement:
-    """Result of ``measure_angle``. Coordinates in pixels of the input image."""
-
-    angle_deg: float = float("nan")
-    angle_unc_deg: float = float("nan")
-    confidence: float = 0.0
-    status: str = "failed"
-    reason: str = ""
-    method: str = ""
-    vertex: tuple = (float("nan"), float("nan"))
-    proximal: Arm | None = None
-    distal: Arm | None = None
-    details: dict = field(default_factory=dict)
-
-    def __bool__(self):
-        return self.status != "failed"
-
-    def row(self) -> dict:
-        """The angles-table fields (DESIGN.md) of this measurement."""
-        return dict(angle_deg=self.angle_deg, angle_unc_deg=self.angle_unc_deg, confidence=self.confidence,
-                    status=self.status, reason=self.reason, method=self.method,
-                    vertex_x=self.vertex[0], vertex_y=self.vertex[1])
-
-
-def failed(reason: str, method: str = "") -> AngleMeasurement:
-    return AngleMeasurement(reason=reason, method=method)
-
-
-# --------------------------------------------------------------------------- input
-
-def as_bgr8(image) -> np.ndarray:
-    """Any 2-D grey or 3/4-channel image, uint8 / uint16 / float, as BGR uint8."""
-    img = np.asarray(image)
-    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (1, 3, 4)):
-        raise ValueError(f"image must be a (H, W) grey or (H, W, 3|4) colour array, got shape {img.shape}")
-    if img.dtype == np.uint16:
-        img = (img / 257.0 + 0.5).astype(np.uint8)
-    elif img.dtype.kind == "f":
-        top = 1.0 if np.nanmax(img) <= 1.0 else 255.0
-        img = np.clip(np.nan_to_num(img) / top * 255 + 0.5, 0, 255).astype(np.uint8)
-    elif img.dtype == bool:
-        img = img.astype(np.uint8) * 255
-    elif img.dtype != np.uint8:
-        raise ValueError(f"image dtype must be uint8, uint16, float or bool, got {img.dtype}")
-    if img.ndim == 2 or img.shape[2] == 1:
-        img = cv2.cvtColor(img.reshape(img.shape[:2]), cv2.COLOR_GRAY2BGR)
-    elif img.shape[2] == 4:
-        img = cv2.cvtColor(img, cv2.COLOR_BGRA2BGR)
-    return np.ascontiguousarray(img)
 
 
 # --------------------------------------------------------------------------- geometry helpers
@@ -380,7 +313,7 @@ SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
 SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
-RIMS_LOST = 0.15         # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
+RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
 ELSEWHERE = 0.5          # ... the first was no finger: joined to something, or a thin strip (then at most this
@@ -682,7 +615,7 @@ def _measure_segmentation(work, f, seg):
     # answer counts: an unsure answer on a silhouette of fewer colours adds a guess to a
     # doubt (a bent second joint stays unsure; a dark hand against a dark box has lost
     # its shaded half, and with a poster parted off measured unsure and 11 deg off).
-    best = None
+    best, best_area = None, 0
     if m.status != "ok":
         # no finger width when the first one was a poster's at the tip (``fail``)
         wf = m.details.get("finger_width_px")
@@ -702,7 +635,7 @@ def _measure_segmentation(work, f, seg):
                         continue
                     if m2.status == "ok":
                         sure.append(m2)
-                        if best is None or alt.sum() > best_area:
+                        if alt.sum() > best_area:
                             best, best_area = m2, alt.sum()
         if best is not None:
             m = best
@@ -1153,91 +1086,6 @@ def _grade(meas: AngleMeasurement, reasons) -> AngleMeasurement:
     return meas
 
 
-# --------------------------------------------------------------------------- markers
-
-def find_markers(bgr, *, min_saturation=120, max_dots=12):
-    """Centres (x, y) and radii of small, round, strongly coloured dots that stand out
-    in colour from what they are stuck on.
-
-    A dot is strongly coloured (HSV saturation at least ``min_saturation``) and its
-    colour (CIELAB a*, b*) is at least ``DOT_STANDS_OUT`` from the mean colour around it
-    (over three of the largest dot's widths): skin can be saturated itself (tanned skin
-    reaches 110-140 of 255 in HSV) and so can a glove, and a saturation threshold alone
-    joins the dots to the finger. Of the round blobs so found, a dot differs as much from
-    nearly all round it (a ring of 1.5 to 2.5 radii): a corner of a poster or of a
-    cutting mat does not.
-    """
-    h0, w0 = bgr.shape[:2]
-    hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
-    lab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)
-    ab = lab[..., 1:]
-    k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
-    # (in 8 bit and integers: a float colour image costs several times as much)
-    diff = cv2.subtract(lab, cv2.blur(lab, (k, k), borderType=cv2.BORDER_REFLECT), dtype=cv2.CV_16S).astype(np.int32)
-    stands_out = diff[..., 1] ** 2 + diff[..., 2] ** 2 >= DOT_STANDS_OUT ** 2
-    sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & stands_out).astype(np.uint8)
-    # JPEG's colour noise in dark skin next to a dot stands out too: specks off
-    sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
-    _, comp, stats, _ = cv2.connectedComponentsWithStats(sat, connectivity=8)
-    dots = []
-    min_area = max(6, 1e-5 * h0 * w0)
-    # blobs of a dot's size, about as wide as high, filling a disc (1 for a disc, 1.27
-    # for a square) and not too small: all pieces at once (a wall can hold hundreds)
-    area, wide, high = (stats[:, c].astype(float) for c in (cv2.CC_STAT_AREA, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
-    fill = area / (np.pi / 4 * wide * high)
-    aspect = wide / np.maximum(high, 1)
-    round_dot = ((area >= min_area) & (area <= MAX_DOT_AREA * h0 * w0) & (aspect > 0.75) & (aspect < 1.33)
-                 & (fill > 0.85) & (fill < 1.12) & (np.minimum(wide, high) >= 0.008 * min(h0, w0)))
-    for i in np.nonzero(round_dot[1:])[0] + 1:
-        a, bw, bh = stats[i, cv2.CC_STAT_AREA], stats[i, cv2.CC_STAT_WIDTH], stats[i, cv2.CC_STAT_HEIGHT]
-        # the centroid of the saturation-weighted blob is sub-pixel
-        x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
-        blob = comp[y0:y0 + bh, x0:x0 + bw] == i
-        patch = blob * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
-        yy, xx = np.mgrid[0:bh, 0:bw]
-        cx, cy = (patch * xx).sum() / patch.sum() + x0, (patch * yy).sum() / patch.sum() + y0
-        r = np.sqrt(a / np.pi)
-        ya, yb = max(0, int(cy - 2.5 * r)), min(h0, int(cy + 2.5 * r) + 2)
-        xa, xb = max(0, int(cx - 2.5 * r)), min(w0, int(cx + 2.5 * r) + 2)
-        d2 = (np.arange(ya, yb)[:, None] - cy) ** 2 + (np.arange(xa, xb)[None, :] - cx) ** 2
-        ring = ab[ya:yb, xa:xb][(d2 >= (1.5 * r) ** 2) & (d2 <= (2.5 * r) ** 2)].astype(float)
-        own = np.median(ab[y0:y0 + bh, x0:x0 + bw][blob], axis=0)
-        if len(ring) and np.percentile(np.hypot(*(ring - own).T), 10) < DOT_STANDS_OUT:
-            continue
-        dots.append((cx, cy, r))
-    return dots[:max_dots]
-
-
-def _measure_markers(bgr):
-    dots = find_markers(bgr)
-    if len(dots) != 3:
-        return failed(f"found {len(dots)} marker dots, need exactly 3 (proximal, joint, distal)", "markers")
-    p = np.array([d[:2] for d in dots])
-    radii = np.array([d[2] for d in dots])
-    if radii.max() > 1.5 * radii.min():
-        return failed("the three coloured dots differ in size; they are not a marker set", "markers")
-    r = radii.mean()
-    sides = [np.linalg.norm(p[(i + 1) % 3] - p[(i + 2) % 3]) for i in range(3)]
-    j = int(np.argmax(sides))          # the joint dot is opposite the longest side
-    a, b = p[(j + 1) % 3], p[(j + 2) % 3]
-    va, vb = a - p[j], b - p[j]
-    if min(np.linalg.norm(va), np.linalg.norm(vb)) < 4 * r:
-        return failed("the marker dots are too close together to measure an angle", "markers")
-    interior = np.degrees(np.arccos(np.clip(np.dot(va, vb) / np.linalg.norm(va) / np.linalg.norm(vb), -1, 1)))
-    # centroid precision ~ 0.05 px per radius-normalised blob; propagate to the angle
-    sig_pos = 0.1
-    unc = float(np.degrees(np.sqrt(2) * sig_pos * np.sqrt(1 / np.linalg.norm(va) ** 2 + 1 / np.linalg.norm(vb) ** 2)))
-    unc = float(np.hypot(unc, 0.1))
-    # which arm is proximal is not known from dots alone; it does not change the angle
-    return AngleMeasurement(
-        angle_deg=float(180 - interior), angle_unc_deg=unc, confidence=0.95, status="ok", method="markers",
-        vertex=(float(p[j][0]), float(p[j][1])),
-        proximal=Arm(a, va / np.linalg.norm(va), float(np.linalg.norm(va))),
-        distal=Arm(b, vb / np.linalg.norm(vb), float(np.linalg.norm(vb))),
-        details=dict(dot_radius_px=float(r)),
-    )
-
-
 # --------------------------------------------------------------------------- API
 
 def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
@@ -1288,10 +1136,10 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
     if float(cv2.meanStdDev(bgr)[1].max()) < 1.0:      # every channel flat
         return failed("the picture is blank (one flat colour: all black, all white or a lens cap)", method)
     if method == "markers":
-        return _shift(_measure_markers(bgr), ox, oy)
+        return _shift(measure_markers(bgr), ox, oy)
     segmented = None
     if method == "auto":
-        m = _measure_markers(bgr)
+        m = measure_markers(bgr)
         if m:
             # three round coloured blobs are markers only if they sit on the finger (not a
             # poster or a pen cap in the background) and are stickers, not specks (a bit

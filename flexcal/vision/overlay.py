@@ -8,7 +8,7 @@ import textwrap
 import cv2
 import numpy as np
 
-from flexcal.vision.angle import AngleMeasurement, as_bgr8
+from flexcal.vision.measurement import AngleMeasurement, as_bgr8
 
 _COLOURS = {"ok": (60, 200, 60), "low_confidence": (0, 190, 255), "failed": (40, 40, 230)}
 

@@ -6,7 +6,7 @@ import pytest
 
 from flexcal.synthetic import draw_finger, render_finger
 from flexcal.vision import as_bgr8, draw_overlay, contact_sheet, measure_angle
-from flexcal.vision.angle import find_markers
+from flexcal.vision.markers import find_markers
 
 SHAPE = (480, 640)
 
@@ -1073,3 +1073,19 @@ def test_a_silhouette_rebuilt_without_the_fingers_rims_does_not_set_the_knuckle(
     img, _ = draw_finger(a, shape=(480, 640), rng=376903135)
     m = measure_angle(img)
     assert not m or abs(m.angle_deg - a) < 2.0, (m.angle_deg, m.reason)
+
+
+@pytest.mark.parametrize("left, right, lost", [(5, 3, True), (3, 3, True), (0, 8, False), (1, 0, False)])
+def test_a_rebuilt_finger_narrower_on_both_sides_lost_its_rims(left, right, lost):
+    # a horizontal finger 20 px wide on a rebuilt silhouette, and the first silhouette
+    # reaching past its upper edge by `left` px and past its lower edge by `right`:
+    # past both by a tenth of its width or more, the rebuilt one lost the skin's rims; an
+    # object cut off on one side (0 and 8 px) or a pixel of outline is no loss
+    from flexcal.vision.angle import _rims_lost
+    from flexcal.vision.measurement import AngleMeasurement, Arm
+    first = np.zeros((200, 300), np.uint8)
+    first[90 - left:110 + right, :250] = 1
+    m = AngleMeasurement(distal=Arm(np.array([150.0, 100.0]), np.array([1.0, 0.0]), 40.0),
+                         details=dict(finger_width_px=20.0, finger_window_width=1.0))
+    wf_first = (20 + left + right) / 1.1     # the first silhouette's finger: as wide in its window as at its tip x1.1
+    assert _rims_lost(first, wf_first, m, 1.0) is lost
