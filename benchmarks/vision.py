@@ -1,6 +1,6 @@
 """Accuracy and speed of flexcal.vision on seeded rendered suites.
 
-    python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn]
+    python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn,cluttered]
                                 [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
@@ -11,7 +11,9 @@ back, as a user's photos would be. ``--details`` writes one row per render (trut
 uncertainty, status, reason and the render's nuisances) to find what fails.
 The suites clean, realistic and hard are ``flexcal.synthetic.render_finger``'s presets;
 drawn is ``flexcal.synthetic.drawn``: fingers drawn another way, which the method was not
-built on, to show whether it holds beyond the renderer it was developed with.
+built on, to show whether it holds beyond the renderer it was developed with; cluttered
+is the same with a striped background, the middle finger behind the index and the
+sensor's lead, each at random.
 ``--orientations`` measures every render also turned by 90, 180 and 270 deg and
 mirrored (suites named ``clean x5`` and so on): the bend is the same, and a method that
 holds in any orientation answers them alike; k-means starts and JPEG blocks differ, so
@@ -40,7 +42,8 @@ from flexcal.synthetic.drawn import draw_finger
 from flexcal.vision import angle as vision_angle
 
 
-SUITES = ("clean", "realistic", "hard", "drawn")    # drawn: flexcal.synthetic.drawn, not the renderer
+SUITES = ("clean", "realistic", "hard", "drawn", "cluttered")   # the last two: flexcal.synthetic.drawn
+DRAWN = ("drawn", "cluttered")
 
 # the same photo turned and mirrored: the bend is the same (--orientations)
 ORIENTATIONS = {"": lambda im: im,
@@ -55,8 +58,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
-        if difficulty == "drawn":   # a photo-like drawing, compressed once already
-            img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)))
+        if difficulty in DRAWN:   # a photo-like drawing, compressed once already
+            img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)), cluttered=difficulty == "cluttered")
         else:
             img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty,
                                    jpeg_quality=None, markers=markers)
@@ -117,12 +120,12 @@ def main(argv=None):
     print(f"{'suite':<12} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
-        suites = args.suites.split(",") if args.suites else [s for s in SUITES if not (args.markers and s == "drawn")]
+        suites = args.suites.split(",") if args.suites else [s for s in SUITES if not (args.markers and s in DRAWN)]
         for suite in suites:
             if suite not in SUITES:
                 ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
-            if args.markers and suite == "drawn":
-                ap.error("--markers: the drawn suite has no marker dots; choose from clean, realistic, hard")
+            if args.markers and suite in DRAWN:
+                ap.error(f"--markers: the {suite} suite has no marker dots; choose from clean, realistic, hard")
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
             r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers)
             print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "

@@ -55,9 +55,19 @@ def _unit(rad):
     return np.array([np.cos(rad), np.sin(rad)])
 
 
-def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.ndarray, DrawnTruth]:
-    """A BGR uint8 photo-like drawing of a finger bent by ``angle_deg`` at the knuckle."""
+def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None, cluttered=False) -> tuple[np.ndarray, DrawnTruth]:
+    """A BGR uint8 photo-like drawing of a finger bent by ``angle_deg`` at the knuckle.
+
+    ``cluttered`` adds, each at random, a striped background, the middle finger behind
+    the index (bent further) and the sensor's lead running off the picture; the plain
+    drawing of the same ``rng`` is otherwise the same.
+    """
     rng = np.random.default_rng(rng)
+    # the clutter's own stream: a plain drawing's draws do not depend on it
+    more = np.random.default_rng(rng.bit_generator.jumped())
+    stripes = other_finger = lead = False
+    if cluttered:
+        stripes, other_finger, lead = (bool(v) for v in more.random(3) < (0.4, 0.4, 0.5))
     h, w = shape
     width = rng.uniform(0.04, 0.075) * max(h, w)      # the finger's width at the knuckle, px
     r0, r_tip = width / 2, width / 2 * rng.uniform(0.78, 0.9)
@@ -76,6 +86,14 @@ def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.nd
     _capsule(mask, hand_end - u_hand * 4 * max(h, w), hand_end, r_hand, r_hand)
     _capsule(mask, knuckle, tip, r0, r_tip)
     alpha = mask.astype(np.float32)[..., None] / 255
+    behind = np.zeros((h, w), np.uint8)
+    if other_finger:
+        # the middle finger: from beside the knuckle, nearer the palm, bent further
+        k2 = knuckle + to_palm * width * more.uniform(0.3, 0.6) - u_hand * width * more.uniform(0.0, 0.3)
+        u2 = _unit(roll + palm_side * np.radians(angle_deg + more.uniform(15, 45)))
+        _capsule(behind, k2, k2 + u2 * length * more.uniform(0.9, 1.05), r0 * 0.95, r_tip * 0.95)
+        behind[mask > 127] = 0
+    a_behind = behind.astype(np.float32)[..., None] / 255
 
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
     wall = rng.uniform(50, 235, 3)
@@ -83,12 +101,15 @@ def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.nd
     blotches = cv2.resize(rng.normal(size=(h // 64 + 2, w // 64 + 2)).astype(np.float32), (w, h),
                           interpolation=cv2.INTER_CUBIC)
     img = wall * (1 + (xx - w / 2) * slope[0] + (yy - h / 2) * slope[1] + 0.04 * blotches)[..., None]
+    if stripes:     # wood grain, a fabric or a striped wall
+        theta, period = more.uniform(0, np.pi), more.uniform(8, 60)
+        img *= (1 + more.uniform(0.05, 0.15) * np.sin(2 * np.pi * (xx * np.cos(theta) + yy * np.sin(theta)) / period))[..., None]
     table = bool(rng.random() < 0.5)
     if table:
         side = to_palm if rng.random() < 0.7 else -to_palm
         beyond = (xx - hand_end[0]) * side[0] + (yy - hand_end[1]) * side[1] - r_hand * rng.uniform(1.2, 3.0)
         img[beyond > 0] = rng.uniform(40, 240, 3)
-    shadow = cv2.warpAffine(cv2.GaussianBlur(alpha[..., 0], (0, 0), width * 0.4),
+    shadow = cv2.warpAffine(cv2.GaussianBlur(np.maximum(alpha, a_behind)[..., 0], (0, 0), width * 0.4),
                             np.float32([[1, 0, to_palm[0] * width * 0.3], [0, 1, to_palm[1] * width * 0.3]]), (w, h))
     img *= (1 - 0.35 * rng.uniform(0.3, 1.0) * shadow)[..., None]
 
@@ -102,6 +123,9 @@ def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.nd
     across = np.clip(((xx - knuckle[0]) * to_palm[0] + (yy - knuckle[1]) * to_palm[1]) / (2 * r_hand), -1, 1)
     light = rng.uniform(-1, 1)
     shade = (0.62 + 0.38 * np.sqrt(depth)) * (1 - 0.15 * light * across)
+    if other_finger:
+        d2 = np.clip(cv2.distanceTransform((behind > 127).astype(np.uint8), cv2.DIST_L2, 5) / (0.9 * r0), 0, 1)
+        img = img * (1 - a_behind) + (skin * 0.85 * (0.62 + 0.38 * np.sqrt(d2))[..., None]) * a_behind
     img = img * (1 - alpha) + (skin * shade[..., None]) * alpha
 
     strip = bool(rng.random() < 0.5)
@@ -112,6 +136,15 @@ def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.nd
         back += [knuckle + u_finger * length * t - finger_palm * (r0 + (r_tip - r0) * t - 1) for t in (0.0, 0.75)]
         cv2.polylines(img, [np.round(np.array(back) * _SUB).astype(np.int32)], False, rng.uniform(20, 70, 3).tolist(),
                       max(2, int(round(0.1 * width))), cv2.LINE_AA, shift=4)
+    if lead:
+        # the sensor's lead: from the back of the hand, curving off the picture
+        start = hand_end - u_hand * length * more.uniform(0.3, 0.9) - to_palm * r_hand
+        away = _unit(more.uniform(0, 2 * np.pi)) * 2 * max(h, w)
+        bend = -to_palm * max(h, w) * more.uniform(0.1, 0.5)
+        q = np.linspace(0, 1, 60)[:, None]
+        curve = (1 - q) ** 2 * start + 2 * q * (1 - q) * (start + bend) + q ** 2 * (start + away)
+        cv2.polylines(img, [np.round(curve * _SUB).astype(np.int32)], False, more.uniform(10, 60, 3).tolist(),
+                      max(2, int(round(more.uniform(0.05, 0.1) * width))), cv2.LINE_AA, shift=4)
     nail = np.zeros((h, w), np.uint8)
     cv2.ellipse(nail, _fix(tip - u_finger * r_tip * 0.9 - to_palm * r_tip * 0.35),
                 (int(r_tip * _SUB), int(r_tip * 0.45 * _SUB)), float(np.degrees(np.arctan2(*u_finger[::-1]))),
@@ -125,5 +158,6 @@ def draw_finger(angle_deg: float, *, shape=(960, 1280), rng=None) -> tuple[np.nd
     _, buf = cv2.imencode(".jpg", np.clip(img, 0, 255).astype(np.uint8), [cv2.IMWRITE_JPEG_QUALITY, quality])
     params = {"finger_width_px": float(width), "length_widths": float(length / width),
               "hand_to_finger": float(r_hand / r0), "roll_deg": float(np.degrees(roll) % 360),
-              "palm_side": palm_side, "glove": glove, "table": table, "strip": strip, "jpeg_quality": quality}
+              "palm_side": palm_side, "glove": glove, "table": table, "strip": strip, "jpeg_quality": quality,
+              "stripes": stripes, "other_finger": other_finger, "lead": lead}
     return cv2.imdecode(buf, cv2.IMREAD_COLOR), DrawnTruth(float(angle_deg), knuckle, params)

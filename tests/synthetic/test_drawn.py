@@ -21,3 +21,19 @@ def test_the_hand_runs_from_the_knuckle_off_the_picture():
         knuckle = img[y, x].astype(float)
         border = np.concatenate([img[0], img[-1], img[:, 0], img[:, -1]]).astype(float)
         assert (np.linalg.norm(border - knuckle, axis=1) < 25).any(), seed
+
+
+def test_clutter_is_drawn_over_the_same_finger():
+    # the clutter has its own random stream: the finger, its bend and knuckle, and every
+    # other draw are those of the plain drawing of the same seed
+    clutter = ("stripes", "other_finger", "lead")
+    drawn = []
+    for seed in range(4):
+        _, tp = draw_finger(30.0, shape=(240, 320), rng=seed)
+        _, tb = draw_finger(30.0, shape=(240, 320), rng=seed, cluttered=True)
+        assert np.array_equal(tp.vertex_xy, tb.vertex_xy)
+        assert {k: v for k, v in tb.params.items() if k not in clutter} == \
+            {k: v for k, v in tp.params.items() if k not in clutter}
+        assert not any(tp.params[k] for k in clutter)
+        drawn += [tb.params[k] for k in clutter]
+    assert any(drawn)

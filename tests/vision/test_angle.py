@@ -1089,3 +1089,20 @@ def test_a_rebuilt_finger_narrower_on_both_sides_lost_its_rims(left, right, lost
                          details=dict(finger_width_px=20.0, finger_window_width=1.0))
     wf_first = (20 + left + right) / 1.1     # the first silhouette's finger: as wide in its window as at its tip x1.1
     assert _rims_lost(first, wf_first, m, 1.0) is lost
+
+
+def test_drawn_fingers_with_clutter_are_measured_or_refused_never_misread():
+    # drawn with, at random, a striped background, the sensor's lead running off the
+    # picture and the middle finger behind the index, bent further (the silhouette forks
+    # at the knuckle: which branch is the index cannot be told, so it is refused)
+    rng = np.random.default_rng(50)
+    plain_answered, plain = 0, 0
+    for _ in range(8):
+        a = float(rng.uniform(0, 90))
+        img, truth = draw_finger(a, rng=int(rng.integers(2**31)), cluttered=True)
+        m = measure_angle(img)
+        assert not m or abs(m.angle_deg - a) < 3.0, (a, m.angle_deg, truth.params)
+        if not truth.params["other_finger"]:
+            plain += 1
+            plain_answered += bool(m)
+    assert plain >= 3 and plain_answered >= plain - 1, (plain, plain_answered)
