@@ -63,3 +63,25 @@ def test_overlay_names_stay_unique_across_trial_folders(tmp_path):
     # and the contact sheet's captions tell them apart the same way
     assert photo_labels(paths) == ["trial_01/images/step_01.jpg", "trial_02/images/step_01.jpg"]
     assert photo_labels([tmp_path / "a.jpg", tmp_path / "b.png"]) == ["a.jpg", "b.png"]
+
+
+def test_a_phone_photo_stored_sideways_is_measured_as_shown(tmp_path):
+    # phones store the sensor's pixels and an EXIF orientation tag (6: turn 90 deg
+    # clockwise to show); the angles table's vertex and the overlay are in the photo as
+    # shown, in the reduced decode of a large photo as in the full one
+    import numpy as np
+    from PIL import Image
+
+    from flexcal.measure import measure_file
+    img, truth = render_finger(50.0, shape=(960, 1280), rng=3, difficulty="clean")
+    stored = cv2.rotate(img, cv2.ROTATE_90_COUNTERCLOCKWISE)
+    exif = Image.Exif()
+    exif[0x0112] = 6
+    path = tmp_path / "phone.jpg"
+    Image.fromarray(cv2.cvtColor(stored, cv2.COLOR_BGR2RGB)).save(path, exif=exif, quality=92)
+    row, thumb = measure_file(path, overlay_dir=tmp_path)
+    assert row["status"] == "ok" and abs(row["angle_deg"] - 50.0) < 1.5
+    off = np.hypot(row["vertex_x"] - truth.vertex_xy[0], row["vertex_y"] - truth.vertex_xy[1])
+    assert off < 30, (row["vertex_x"], row["vertex_y"], truth.vertex_xy)
+    assert cv2.imread(str(tmp_path / "phone_overlay.jpg")).shape[:2] == (960, 1280)
+    assert thumb.shape[1] > thumb.shape[0]           # shown landscape, as rendered
