@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from flexcal.capture.images import IMAGE_SUFFIXES, find_images, photo_folder
+from flexcal.capture.images import PHOTO_SUFFIXES, find_images, photo_folder
 from flexcal.errors import FlexcalError
 
 COMPARISON_COLUMNS = ["image", "angle_deg", "angle_unc_deg", "status", "reason", "reference_deg",
@@ -36,7 +36,7 @@ def trial_images(dirs) -> list[Path]:
 
 def _label_key(label: str) -> str:
     # ImageJ labels may carry a stack or ROI suffix: "1402.jpg:0001-0234" or "stack:1402.jpg"
-    parts = [p for p in str(label).split(":") if Path(p).suffix.lower() in IMAGE_SUFFIXES]
+    parts = [p for p in str(label).split(":") if Path(p).suffix.lower() in PHOTO_SUFFIXES]
     return Path(parts[0] if parts else str(label)).name.lower()
 
 

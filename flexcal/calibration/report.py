@@ -180,7 +180,8 @@ def _thumb(path, width=240) -> str:
     """An overlay as an embedded JPEG thumbnail ('' when it is not there)."""
     import cv2
 
-    img = cv2.imread(str(path), cv2.IMREAD_REDUCED_COLOR_4)
+    # (a photo that could not be read has no overlay; OpenCV would warn on stderr)
+    img = cv2.imread(str(path), cv2.IMREAD_REDUCED_COLOR_4) if Path(path).is_file() else None
     if img is None:
         return ""
     h = max(1, int(round(img.shape[0] * width / img.shape[1])))

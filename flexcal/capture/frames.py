@@ -15,7 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from flexcal.capture.images import find_images
+from flexcal.capture.images import IMAGE_SUFFIXES, find_images
 from flexcal.errors import FlexcalError
 
 
@@ -42,7 +42,7 @@ class FrameSource:
         else:
             p = Path(str(source))
             if p.is_dir():
-                self._files = find_images([p])
+                self._files = [f for f in find_images([p]) if f.suffix.lower() in IMAGE_SUFFIXES]
                 if not self._files:
                     raise FlexcalError(f"--camera {source}: no images in that folder")
                 self._cap = None

@@ -10,13 +10,21 @@ import numpy as np
 
 from flexcal.errors import FlexcalError
 
-IMAGE_SUFFIXES = {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp", ".webp"}
+IMAGE_SUFFIXES = {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp", ".webp"}   # what OpenCV reads
+# photo formats that cameras and phones write and OpenCV does not read
+_UNREADABLE_KINDS = {
+    ".heic": "a HEIC photo (an iPhone's default: Settings > Camera > Formats > Most Compatible takes JPEGs)",
+    ".heif": "a HEIF photo", ".avif": "an AVIF photo",
+    **{s: "a camera RAW file" for s in (".dng", ".cr2", ".cr3", ".nef", ".arw", ".orf", ".rw2", ".raf")},
+}
+PHOTO_SUFFIXES = IMAGE_SUFFIXES | set(_UNREADABLE_KINDS)   # listed as photos: an unreadable one gets a row saying why
 
 
 def find_images(paths, *, all_files: bool = False) -> list[Path]:
     """Expand files, folders and glob patterns into a sorted, de-duplicated list.
 
-    Folders contribute their image files (by suffix; with ``all_files`` every file, so
+    Folders contribute their photos (by suffix, ``PHOTO_SUFFIXES``: a HEIC or RAW photo
+    is listed, and its row says it cannot be read; with ``all_files`` every file, so
     that a non-image in an image folder is reported rather than skipped). A path that
     matches nothing raises ``FlexcalError`` naming it.
     """
@@ -30,7 +38,7 @@ def find_images(paths, *, all_files: bool = False) -> list[Path]:
             if m.is_dir():
                 found += [f for f in sorted(m.iterdir())
                           if f.is_file() and not f.name.startswith(".")
-                          and (all_files or f.suffix.lower() in IMAGE_SUFFIXES)]
+                          and (all_files or f.suffix.lower() in PHOTO_SUFFIXES)]
             else:
                 found.append(m)
     seen, out = set(), []
@@ -68,6 +76,11 @@ def read_image(path, *, reduce: int = 1):
         flags = cv2.IMREAD_ANYDEPTH | cv2.IMREAD_ANYCOLOR
     img = cv2.imdecode(data, flags)
     if img is None:
+        kind = _UNREADABLE_KINDS.get(path.suffix.lower())
+        if kind is None and data[4:12].tobytes() in (b"ftypheic", b"ftypheix", b"ftypmif1", b"ftyphevc"):
+            kind = _UNREADABLE_KINDS[".heic"]
+        if kind is not None:
+            return None, f"{kind} cannot be read; export the photos as JPEG (or TIFF) and measure those"
         return None, "not an image, or the image is corrupt (OpenCV could not decode it)"
     return img, ""
 

@@ -85,3 +85,28 @@ def test_a_phone_photo_stored_sideways_is_measured_as_shown(tmp_path):
     assert off < 30, (row["vertex_x"], row["vertex_y"], truth.vertex_xy)
     assert cv2.imread(str(tmp_path / "phone_overlay.jpg")).shape[:2] == (960, 1280)
     assert thumb.shape[1] > thumb.shape[0]           # shown landscape, as rendered
+
+
+def test_a_heic_photo_gets_a_row_saying_to_export_jpeg(tmp_path):
+    # an iPhone's photos are HEIC by default, which OpenCV cannot read: listed with the
+    # photos (not skipped), and its row says what to do
+    photos = tmp_path / "photos"
+    photos.mkdir()
+    img, _ = render_finger(30.0, shape=(480, 640), rng=1, difficulty="clean")
+    cv2.imwrite(str(photos / "IMG_0001.JPG"), img)
+    (photos / "IMG_0002.HEIC").write_bytes(b"\x00\x00\x00\x18ftypheic\x00\x00\x00\x00mif1heic" + bytes(200))
+    (photos / "IMG_0003.jpg").write_bytes(b"\x00\x00\x00\x18ftypheic\x00\x00\x00\x00mif1heic" + bytes(200))
+    out = tmp_path / "angles.csv"
+    assert main(["measure", str(photos), "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert [p.split("/")[-1] for p in df["image"]] == ["IMG_0001.JPG", "IMG_0002.HEIC", "IMG_0003.jpg"]
+    assert df["status"].tolist() == ["ok", "failed", "failed"]
+    for reason in df["reason"][1:]:     # by its suffix, or by its content under another name
+        assert "HEIC" in reason and "export the photos as JPEG" in reason
+
+
+def test_heic_photos_are_listed_with_a_trials_photos(tmp_path):
+    from flexcal.capture.images import find_images
+    for name in ("a.jpg", "b.HEIC", "c.dng", "notes.txt"):
+        (tmp_path / name).write_bytes(b"x")
+    assert [p.name for p in find_images([tmp_path])] == ["a.jpg", "b.HEIC", "c.dng"]
