@@ -22,7 +22,9 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    the midline splits into straight arms ten times better beyond it); when the best
    place is the range's near end, the bend there is the second joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
-   own edge under the sensor strip and tape (``edges.py``); on the finger, each edge
+   own edge under the sensor strip and tape (``edges.py``), or at the outline where
+   that is straighter (a dark rim, shaded as a round finger's, passes for a layer at
+   some points and not at others); on the finger, each edge
    line is the longest straight stretch of edge between 1 and 2.75 widths from the
    knuckle (a robust line through all of it, refitted to the points that lie on it:
    the finger flares towards the knuckle and may bend again at the next joint, so a
@@ -314,6 +316,8 @@ SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
+MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
+                         # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
 ELSEWHERE = 0.5          # ... the first was no finger: joined to something, or a thin strip (then at most this
@@ -872,7 +876,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         for k, (side, near, normals) in enumerate(sides):
             m = (s[near] >= lo_s) & (s[near] <= hi_s)
             pts, keep = skin_edge(work, side[m], normals[m], wf)
-            skin[sign, k] = (s[near][m][keep], pts[keep])
+            skin[sign, k] = (s[near][m][keep], pts[keep], side[m][keep])
 
     def arms_at(bk, checks=True):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
@@ -887,30 +891,43 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             dm = _fit_line(pm)[1]
             # the outline points whose nearest midline point lies in this window; the
             # finger's edges are followed further, as far as they run straight
-            edges, core_pts = [], []
+            edges, core_pts, skin_centres = [], [], []
             # The phalanx flares into the joint over about a finger width, so the finger's
             # edges are taken from there on; when a band (tape) hides most of what is left
             # of the window on either side, also from nearer the knuckle, on both sides.
             near_end = FIN_EDGE_WIN[0]
             if sign < 0 and min(np.sum((sk >= lo_s) & (sk <= bk - near_end * wf))
-                                for sk, _ in (skin[-1, 0], skin[-1, 1])) < SHAFT_SEEN * wf:
+                                for sk, _, _ in (skin[-1, 0], skin[-1, 1])) < SHAFT_SEEN * wf:
                 near_end = FIN_EDGE_NEAR
             for k in (0, 1):
-                s_near, pts = skin[sign, k]
+                s_near, pts, outline = skin[sign, k]
                 if sign < 0:
                     wide = (s_near >= bk - FIN_EDGE_WIN[1] * wf) & (s_near <= bk - near_end * wf)
                 else:
                     wide = (s_near >= lo_s) & (s_near <= hi_s)
-                pts, core = pts[wide], (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
+                core = (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
                 if core.sum() < 8:
                     return None
+                # The skin's edge under a layer, or the outline itself when only that runs
+                # straight: a dark rim, shaded as a round finger's, can pass for a layer at
+                # some points and not at others, and the edge moved only there scatters
+                best = None
+                for cand in (pts[wide], outline[wide]):
+                    if best is not None and (best[2] >= 1 - MAX_OUTLIERS or np.array_equal(cand, best[0])):
+                        continue    # straight enough, or no layer found
+                    if sign < 0:
+                        # started (robustly) from all the edge in the window, not from its
+                        # core: a band in the core leaves too little there to aim the line
+                        fit = _consensus_line(cand, max(STRAIGHT_PX, STRAIGHT_W * wf))
+                    else:
+                        fit = _robust_line(cand)
+                    inliers = np.mean(fit[3][core] > 0.05)
+                    if best is None:
+                        skin_centres.append(fit[0])     # (the arm's width: at the skin's edges)
+                    if best is None or inliers >= 1 - MAX_OUTLIERS:
+                        best = (cand, fit, inliers)
+                pts, (c_e, d_e, r_e, w_e), _ = best
                 core_pts.append(pts[core])
-                if sign < 0:
-                    # started (robustly) from all the edge in the window, not from its
-                    # core: a band in the core leaves too little there to aim the line
-                    c_e, d_e, r_e, w_e = _consensus_line(pts, max(STRAIGHT_PX, STRAIGHT_W * wf))
-                else:
-                    c_e, d_e, r_e, w_e = _robust_line(pts)
                 if np.dot(d_e, dm) < 0:
                     d_e = -d_e
                 se = _line_dir_se(pts, r_e, w_e, corr_len=0.5 * wf)
@@ -940,8 +957,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 skin_mid = _skin_midline(core_pts, dm)
                 if len(skin_mid) >= 12:
                     kink = min(kink, _kink(skin_mid))
-            # the arm's width: between its two edge lines, across the axis at its centre
-            gap = edges[1][0] - edges[0][0]
+            # the arm's width: between its two skin edges' lines, across the axis at its centre
+            gap = skin_centres[1] - skin_centres[0]
             width = abs(float(d_axis[0] * gap[1] - d_axis[1] * gap[0]))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
                             length=(hi_s - lo_s), kink=kink, near=near_end, width=width))
@@ -957,7 +974,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         # window (else the parting missed the window: it still holds both fingers, or it
         # is a stub of the hand), and what was parted must be as thick as a finger
         if max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
-               for sn, pts in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
+               for sn, pts, _ in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
             return fail("the finger's window is not where two overlapping fingers were parted")
         if 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
                 < SPLIT_MIN_THICK * wf:
@@ -1022,8 +1039,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         conf *= max(0.0, 1 - kink / 4.0)
         reasons.append(f"an arm is not straight (bent by {max(fin['kink'], hand['kink']):.0f} deg inside it)")
     outl = max(fin["outliers"], hand["outliers"])
-    if outl > 0.3:
-        conf *= max(0.0, 1 - (outl - 0.3) / 0.5)
+    if outl > MAX_OUTLIERS:
+        conf *= max(0.0, 1 - (outl - MAX_OUTLIERS) / 0.5)
         reasons.append("much of an arm's outline is not straight")
     if unc > 2.0:
         conf *= max(0.0, 1 - (unc - 2.0) / 4.0)

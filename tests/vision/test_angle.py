@@ -661,7 +661,8 @@ def test_a_refusal_for_edges_without_a_line_says_so_in_words():
     from flexcal.measure import measure_file
     photo = Path(__file__).resolve().parents[2] / "datasets/sample/trial_02/images/step_06_050deg.jpg"
     row = measure_file(photo)[0]
-    assert row["status"] == "ok" or ("inf" not in row["reason"] and "straight line" in row["reason"]), row["reason"]
+    assert "inf" not in row["reason"], row["reason"]
+    assert row["status"] != "failed" or "straight line" in row["reason"], row["reason"]
 
 
 def test_a_finger_cut_short_by_a_band_is_refused_not_measured_straight(tmp_path):
@@ -1106,3 +1107,14 @@ def test_drawn_fingers_with_clutter_are_measured_or_refused_never_misread():
             plain += 1
             plain_answered += bool(m)
     assert plain >= 3 and plain_answered >= plain - 1, (plain, plain_answered)
+
+
+@pytest.mark.parametrize("angle, rng", [(29.57356498952379, 325430167), (38.79803920034059, 1332676692)])
+def test_a_dark_rim_that_passes_for_a_layer_here_and_there_is_measured_on_the_outline(angle, rng):
+    # thin, blurred drawn fingers whose rims, shaded as a cylinder's, darken over a few
+    # pixels: the skin-edge search took them for a layer (a sensor strip) at some points
+    # and not at others, the edge moved only there scattered, and the photo was refused
+    # ("much of an arm's outline is not straight"); the outline itself runs straight
+    img, _ = draw_finger(angle, shape=(480, 640), rng=rng)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5, (m.angle_deg, m.reason)
