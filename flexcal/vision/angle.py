@@ -23,8 +23,8 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    place is the range's near end, the bend there is the second joint's: refused;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``), or at the outline where
-   that is straighter (a dark rim, shaded as a round finger's, passes for a layer at
-   some points and not at others); on the finger, each edge
+   only that runs straight (a dark rim, shaded as a round finger's, passes for a layer
+   at some points and not at others); on the finger, each edge
    line is the longest straight stretch of edge between 1 and 2.75 widths from the
    knuckle (a robust line through all of it, refitted to the points that lie on it:
    the finger flares towards the knuckle and may bend again at the next joint, so a
@@ -878,6 +878,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             pts, keep = skin_edge(work, side[m], normals[m], wf)
             skin[sign, k] = (s[near][m][keep], pts[keep], side[m][keep])
 
+    def edge_line(pts, finger):
+        # a finger's edge: started (robustly) from all the edge in the window, not from
+        # its core: a band in the core leaves too little there to aim the line
+        return _consensus_line(pts, max(STRAIGHT_PX, STRAIGHT_W * wf)) if finger else _robust_line(pts)
+
     def arms_at(bk, checks=True):
         hand_hi = min(HAND_WIN[1], (total - bk) / wf)
         # finger and hand edge points inside each window, both sides
@@ -908,25 +913,17 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 core = (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
                 if core.sum() < 8:
                     return None
-                # The skin's edge under a layer, or the outline itself when only that runs
-                # straight: a dark rim, shaded as a round finger's, can pass for a layer at
-                # some points and not at others, and the edge moved only there scatters
-                best = None
-                for cand in (pts[wide], outline[wide]):
-                    if best is not None and (best[2] >= 1 - MAX_OUTLIERS or np.array_equal(cand, best[0])):
-                        continue    # straight enough, or no layer found
-                    if sign < 0:
-                        # started (robustly) from all the edge in the window, not from its
-                        # core: a band in the core leaves too little there to aim the line
-                        fit = _consensus_line(cand, max(STRAIGHT_PX, STRAIGHT_W * wf))
-                    else:
-                        fit = _robust_line(cand)
-                    inliers = np.mean(fit[3][core] > 0.05)
-                    if best is None:
-                        skin_centres.append(fit[0])     # (the arm's width: at the skin's edges)
-                    if best is None or inliers >= 1 - MAX_OUTLIERS:
-                        best = (cand, fit, inliers)
-                pts, (c_e, d_e, r_e, w_e), _ = best
+                pts, outline = pts[wide], outline[wide]
+                fit = edge_line(pts, sign < 0)
+                skin_centres.append(fit[0])     # (the arm's width: at the skin's edges)
+                # The outline itself where only that runs straight: a dark rim, shaded as
+                # a round finger's, can pass for a layer at some points and not at others,
+                # and the skin's edge, moved only there, scatters
+                if np.mean(fit[3][core] > 0.05) < 1 - MAX_OUTLIERS and not np.array_equal(pts, outline):
+                    fit_o = edge_line(outline, sign < 0)
+                    if np.mean(fit_o[3][core] > 0.05) >= 1 - MAX_OUTLIERS:
+                        pts, fit = outline, fit_o
+                c_e, d_e, r_e, w_e = fit
                 core_pts.append(pts[core])
                 if np.dot(d_e, dm) < 0:
                     d_e = -d_e
