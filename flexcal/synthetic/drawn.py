@@ -7,9 +7,10 @@ a thick capsule running off the picture, the finger a tapered capsule from the k
 and lit from one side, with a nail at the tip and, sometimes, a dark strip along its back
 (a sensor) and a table of another colour under the hand. Skin is any tone from pale to
 dark, or a glove of any colour; the background any colour, with a gradient and blotches;
-any roll, either side for the palm; optical blur, noise and JPEG. The vision method was
-never shown these drawings while it was built; ``benchmarks/vision.py --suites drawn``
-measures it on them.
+any roll, either side for the palm; optical blur, noise and JPEG; ``cluttered`` adds a
+striped background, the middle finger behind the index and the sensor's lead. The vision
+method was never shown these drawings while it was built; ``benchmarks/vision.py
+--suites drawn,cluttered`` measures it on them.
 """
 
 from __future__ import annotations

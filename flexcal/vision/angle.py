@@ -313,6 +313,8 @@ SPLIT_SEEDS_W = (1.2, 2.5)  # two fingers' outer sides are seeded this far from 
 SPLIT_EDGE_SHARE = 0.8   # ... and at least this share of one side of the finger's window must be where they parted
 SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
 SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
+SPLIT_MIN_WIDTH = 0.35   # ... of a finger at least this share as wide as the two together near the tip (two fingers
+                         # are at most about twice one; parted answers on the renders: 0.42-0.61; a sliver: 0.2)
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
@@ -731,8 +733,9 @@ def _measure_split(work, f, seg):
     sure = []
     for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
-        # the parting is itself a guess: only a reading without doubts counts
-        if m.confidence >= SPLIT_CONFIDENCE:
+        # the parting is itself a guess: only a reading without doubts counts, of a finger
+        # at least SPLIT_MIN_WIDTH as wide as the fingers together (a sliver of one)
+        if m.confidence >= SPLIT_CONFIDENCE and m.details["finger_width_px"] * f >= SPLIT_MIN_WIDTH * wf:
             sure.append(m)
     if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
                                                                                        sure[1].angle_unc_deg):

@@ -1032,6 +1032,19 @@ def test_a_parting_of_two_fingers_that_misleads_is_not_taken(tmp_path, angle, rn
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 3, row
 
 
+def test_a_sliver_parted_off_two_fingers_is_not_measured_as_the_finger(tmp_path):
+    # a drawn index (23 deg) with the middle finger behind it, bent further, mirrored:
+    # parted at an inner edge, the kept piece was a sliver along the index's back (a fifth
+    # of the two fingers' width near the tip) and measured straight, sure, 22.6 deg off
+    from flexcal.measure import measure_file
+    angle = 22.83704096829267     # the cluttered benchmark suite of seed 5000, drawing 11
+    img, _ = draw_finger(angle, rng=193861269, cluttered=True)
+    path = tmp_path / "photo.jpg"
+    cv2.imwrite(str(path), np.ascontiguousarray(img[:, ::-1]), [cv2.IMWRITE_JPEG_QUALITY, 90])
+    row = measure_file(path)[0]
+    assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 5, row
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_a_second_finger_overlapping_the_index_is_named_in_the_reason(seed):
     # the next finger, bent 15 deg more, lies behind the index along its whole first
