@@ -134,7 +134,9 @@ def main(argv=None):
             details += r["details"]
     if args.details:
         with open(args.details, "w", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=list(details[0]))
+            # the renderer's and the drawings' truths name different nuisances: every column
+            # any suite has, empty where a suite has none
+            writer = csv.DictWriter(fh, fieldnames=list(dict.fromkeys(k for row in details for k in row)), restval="")
             writer.writeheader()
             writer.writerows(details)
         print(f"per-render rows: {args.details}")
