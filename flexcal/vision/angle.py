@@ -313,8 +313,8 @@ SPLIT_SEEDS_W = (1.2, 2.5)  # two fingers' outer sides are seeded this far from 
 SPLIT_EDGE_SHARE = 0.8   # ... and at least this share of one side of the finger's window must be where they parted
 SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
 SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
-SPLIT_MIN_WIDTH = 0.35   # ... of a finger at least this share as wide as the two together near the tip (two fingers
-                         # are at most about twice one; parted answers on the renders: 0.42-0.61; a sliver: 0.2)
+SPLIT_MIN_WIDTH = 0.28   # ... of a finger at least this share as wide as the two together near the tip (parted
+                         # answers: renders 0.42-0.61, drawings from 0.34; a sliver along one finger's side: 0.2)
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
