@@ -290,6 +290,8 @@ SHAFT_SEEN = 0.8         # "most": fewer edge points than this many widths in th
 UNC_SHORT_SHAFT_DEG = 1.0  # added uncertainty then (realistic renders: MAE 1.0 deg with, 0.5 without)
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
+HAND_FULL = 0.95         # ... starting further (as long) where the silhouette is still narrower than this share of
+HAND_FROM_MAX = 2.5      # the hand's width (a palm ending beyond the knuckle), up to this many widths from it
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
 PINNED_W = 0.3           # the best knuckle places all this close (widths) to the range's near end: the bend is below it
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
@@ -865,14 +867,34 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # _measure_segmentation) when, with more of the hand in view, the midline splits
     # into straight arms clearly better beyond the range than at the place found.
     beyond = not long_finger and _splits_better_beyond(mid[facing], s[facing], wf, total, b, hi)
+
+    def hand_window(bk):
+        # The hand's window, (from, to) in finger widths beyond the knuckle at ``bk``. A
+        # palm much thicker than the finger can end in a rounded step beyond the knuckle
+        # (seen from the side, the palm's pad reaches past the joint): where the silhouette
+        # is still widening into the hand, its palm side is that rounded end, not the
+        # hand's edge, and a window over it tilts the hand's arm. The window starts where
+        # the silhouette first reaches the hand's width, and is as long as ever.
+        length = HAND_WIN[1] - HAND_WIN[0]
+        start = HAND_WIN[0]
+        sel = facing & (s >= bk + HAND_WIN[0] * wf) & (s <= bk + HAND_WIN[1] * wf)
+        if sel.sum() >= 8:
+            full = np.nonzero(sel & (width >= HAND_FULL * _median(width[sel])))[0]
+            if len(full):
+                start = min(max(start, (s[full[0]] - bk) / wf), HAND_FROM_MAX)
+        return start, min(start + length, (total - bk) / wf)
+
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
     near_b = mtree.query(b_pts)[1]
     # The skin's edge along both sides, found once over everything the finger's and the
     # hand's windows cover when the knuckle moves by KNUCKLE_SHIFT (each arm has its own
     # core colour): (arclength of the nearest midline point, edge point) per side and arm
+    shifted = [b + db * KNUCKLE_SHIFT * wf for db in (-1, 0, 1)]
+    hand_windows = [hand_window(bk) for bk in shifted]
     reach = {-1: (b - KNUCKLE_SHIFT * wf - FIN_EDGE_WIN[1] * wf, b + KNUCKLE_SHIFT * wf - FIN_EDGE_NEAR * wf),
-             +1: (b - KNUCKLE_SHIFT * wf + HAND_WIN[0] * wf, b + KNUCKLE_SHIFT * wf + HAND_WIN[1] * wf)}
+             +1: (min(bk + w[0] * wf for bk, w in zip(shifted, hand_windows)),
+                  max(bk + w[1] * wf for bk, w in zip(shifted, hand_windows)))}
     sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
     for sign, (lo_s, hi_s) in reach.items():
@@ -887,10 +909,9 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return _consensus_line(pts, max(STRAIGHT_PX, STRAIGHT_W * wf)) if finger else _robust_line(pts)
 
     def arms_at(bk, checks=True):
-        hand_hi = min(HAND_WIN[1], (total - bk) / wf)
         # finger and hand edge points inside each window, both sides
         res = []
-        for win, sign in ((FIN_WIN, -1), ((HAND_WIN[0], hand_hi), +1)):
+        for win, sign in ((FIN_WIN, -1), (hand_window(bk), +1)):
             lo_s, hi_s = (bk - win[1] * wf, bk - win[0] * wf) if sign < 0 else (bk + win[0] * wf, bk + win[1] * wf)
             sel = (s >= lo_s) & (s <= hi_s)
             if sel.sum() < 8:
@@ -983,6 +1004,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # a "finger" as wide as the hand is two fingers together, or not a finger at all;
     # or an object in front of the hand (a platform, a sheet) hides its underside, and
     # the silhouette's side there is that object's edge, not the hand's.
+    # (over the usual window: where two fingers together widen into the hand, the hand's
+    # own window starts further and would find it wider)
     in_hand = (s > b + HAND_WIN[0] * wf) & (s < b + HAND_WIN[1] * wf)
     hand_ratio = float(np.median(width[in_hand]) / wf) if in_hand.any() else float("nan")
     if hand_ratio < MIN_HAND_TO_FINGER:
@@ -995,6 +1018,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return fail(f"the part taken for the hand is {hand_ratio:.1f}x as wide as the finger, wider than a hand: "
                     "something is joined to it; give an ROI around the hand and finger", foreign=True)
     fin, hand = arms
+    hand_lo, hand_hi = hand_windows[1]
     # A finger widens a little from its tip to its knuckle (anatomy: about 1.3x); an oval
     # poster or a pointed object widens steadily from its end, and a tip frayed by the
     # segmentation (a parting, a band) makes the finger's width, and every window with
@@ -1054,7 +1078,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # with the edges' answer; a disagreement means the windows hold something that is
     # not a straight arm (another finger, a strap, a wrong silhouette)
     pf = _arm_window(mid, s, b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf)
-    ph = _arm_window(mid, s, b + HAND_WIN[0] * wf, b + min(HAND_WIN[1], (total - b) / wf) * wf)
+    ph = _arm_window(mid, s, b + hand_lo * wf, b + hand_hi * wf)
     if len(pf) >= 8 and len(ph) >= 8:
         dfm, dhm = _robust_line(pf)[1], _robust_line(ph)[1]
         dfm = dfm if np.dot(dfm, pf[0] - pf[-1]) > 0 else -dfm
@@ -1072,7 +1096,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         reasons.append(f"a bend of {angle:.0f} deg is beyond any knuckle's range: the arms found are not the "
                        "finger's and the hand's")
     if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
-                                       (b + HAND_WIN[0] * wf, b + HAND_WIN[1] * wf)], along):
+                                       (b + hand_lo * wf, b + hand_hi * wf)], along):
         conf = 0.0
         reasons.append("along one side of an arm the outline crosses no colour step: it follows the shading on "
                        "the skin, not the skin's edge (its lit side is in the background's colours)")
@@ -1081,12 +1105,13 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     meas = AngleMeasurement(
         angle_deg=angle, angle_unc_deg=unc, confidence=conf, method="contour",
         vertex=(float(vtx[0] * inv), float(vtx[1] * inv)),
-        proximal=Arm(hand["c"] * inv, -d_h_in, float(HAND_WIN[1] * wf * inv)),
+        proximal=Arm(hand["c"] * inv, -d_h_in, float(hand_hi * wf * inv)),
         distal=Arm(fin["c"] * inv, d_f_out, float(FIN_WIN[1] * wf * inv)),
         details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf,
                      contrast=contrast, hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
-                     finger_edges_from_widths=fin["near"], finger_window_width=window_width),
+                     finger_edges_from_widths=fin["near"], finger_window_width=window_width,
+                     hand_window_from_widths=hand_lo),
     )
     return _grade(meas, reasons)
 
