@@ -873,16 +873,21 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         # palm much thicker than the finger can end in a rounded step beyond the knuckle
         # (seen from the side, the palm's pad reaches past the joint): where the silhouette
         # is still widening into the hand, its palm side is that rounded end, not the
-        # hand's edge, and a window over it tilts the hand's arm. The window starts where
-        # the silhouette first reaches the hand's width, and is as long as ever.
+        # hand's edge, and a window over it tilts the hand's arm. When the silhouette
+        # steps up to a width it then keeps (the hand's), the window starts there, as long
+        # as ever; a silhouette that keeps widening (a wedge, not a hand) keeps the usual
+        # window and its doubts.
         length = HAND_WIN[1] - HAND_WIN[0]
-        start = HAND_WIN[0]
         sel = facing & (s >= bk + HAND_WIN[0] * wf) & (s <= bk + HAND_WIN[1] * wf)
         if sel.sum() >= 8:
             full = np.nonzero(sel & (width >= HAND_FULL * _median(width[sel])))[0]
-            if len(full):
-                start = min(max(start, (s[full[0]] - bk) / wf), HAND_FROM_MAX)
-        return start, min(start + length, (total - bk) / wf)
+            if len(full) and (s[full[0]] - bk) / wf > HAND_WIN[0]:
+                start = min((s[full[0]] - bk) / wf, HAND_FROM_MAX)
+                hi = min(start + length, (total - bk) / wf)
+                there = facing & (s >= bk + start * wf) & (s <= bk + hi * wf)
+                if there.sum() >= 8 and np.percentile(width[there], 5) >= HAND_FULL * np.percentile(width[there], 95):
+                    return start, hi
+        return HAND_WIN[0], min(HAND_WIN[1], (total - bk) / wf)
 
     mtree = cKDTree(mid)
     near_a = mtree.query(a_pts)[1]
