@@ -40,7 +40,9 @@ forks, the part taken for the finger is as wide as the hand or the hand wider th
 hand; half otherwise), it is measured again in only the forearm's own colours (a box or
 poster of another colour joined to the finger drops out; only a sure answer there
 counts); if that does not give an answer, it refuses rather than guess. Its confidence
-drops when an arm bends inside its window; there is no answer from a silhouette whose
+drops when an arm bends inside its window; a silhouette that leaves the picture in more
+than one place (a box joined to the hand reaches the edge too: one side of the "hand"
+may be its edge) is not measured sure; there is no answer from a silhouette whose
 outline crosses no colour step along one side of an arm (that side follows the shading
 on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
 tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
@@ -177,7 +179,8 @@ def _resample(chain, step=1.0):
 
 
 def _outline_chains(mask):
-    """The two sides of the silhouette, each from the fingertip to the picture's edge."""
+    """The two sides of the silhouette, each from the fingertip to the picture's edge,
+    and in how many places it leaves the picture (``_exit_count``)."""
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     if not cs:
         return None, "the silhouette has no outline"
@@ -188,6 +191,7 @@ def _outline_chains(mask):
     if not len(lengths):
         return None, "the silhouette runs all along the picture's edge; is the finger in view?"
     n = len(c)
+    exits = _exit_count(lengths)
     # the longest stretch of outline off the picture's edge is the outline of hand and finger
     a = int(starts[np.argmax(lengths)])
     b = a + int(lengths.max())
@@ -198,7 +202,7 @@ def _outline_chains(mask):
     tip = int(np.argmax(np.linalg.norm(chain - ends_mid, axis=1)))
     side_a = chain[: tip + 1][::-1]   # tip -> edge
     side_b = chain[tip:]              # tip -> edge
-    return (side_a, side_b), ""
+    return (side_a, side_b, exits), ""
 
 
 def _tangents(chain):
@@ -727,7 +731,7 @@ def _measure_split(work, f, seg):
     chains, _ = _outline_chains(seg.mask)
     if chains is None:
         return None
-    _, width, s, facing, a, b = _midline(*chains)
+    _, width, s, facing, a, b = _midline(*chains[:2])
     wf, _ = _tip_width(width, s, facing)    # (the fingers together; sides a, b are at 1 px)
     lo, hi = (max(1, int(w * wf)) for w in SPLIT_SEEDS_W)
     sides = [p[lo:hi] for p in (a, b)]
@@ -760,6 +764,13 @@ def _picture_exits(mask) -> int:
     starts, lengths = _free_stretches(max(cs, key=len).reshape(-1, 2), mask.shape)
     if lengths is None or not len(lengths):
         return 0
+    return _exit_count(lengths)
+
+
+def _exit_count(lengths) -> int:
+    """Places where an outline leaves the picture: its long stretches off the picture's
+    edge (``lengths``, in points; ``_free_stretches``); short ones are a corner's or a
+    speck's."""
     return int(np.sum(lengths >= max(40, 0.1 * lengths.max())))
 
 
@@ -784,7 +795,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
-    side_a, side_b = chains
+    side_a, side_b, exits = chains
     mid, width, s, facing, a_pts, b_pts = _midline(side_a, side_b)
     total = s[-1]
     valid = (s > 0.05 * total)
@@ -1105,6 +1116,15 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         conf = 0.0
         reasons.append("along one side of an arm the outline crosses no colour step: it follows the shading on "
                        "the skin, not the skin's edge (its lit side is in the background's colours)")
+    if exits > 1:
+        # something joined to the hand or finger reaches the picture's edge too (a box,
+        # a poster): the outline taken for one side of the hand may be its edge, and the
+        # knuckle, placed by the widths, at the second joint (2026 hard 59 on k-means
+        # draw 2: a white box under a black glove, 21 deg off, sure); the silhouettes
+        # rebuilt in the forearm's colours part it off
+        conf = min(conf, 0.5 * OK_CONFIDENCE)
+        reasons.append(f"the silhouette leaves the picture in {exits} places: something joined to the hand or "
+                       "finger reaches the picture's edge")
     conf = float(np.clip(conf, 0, 1))
     inv = 1.0 / f
     meas = AngleMeasurement(
