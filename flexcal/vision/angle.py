@@ -321,6 +321,10 @@ SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
 SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 SPLIT_MIN_WIDTH = 0.28   # ... of a finger at least this share as wide as the two together near the tip (parted
                          # answers: renders 0.42-0.61, drawings from 0.34; a sliver along one finger's side: 0.2)
+SPLIT_OUTER_RAYS = 0.4   # ... and not when this share of rays out through the bend's outer side, from the vertex,
+                         # leave the finger kept into the piece removed (right partings: none; the finger behind
+                         # kept, the front one cut across its knuckle: 0.6); for bends of SPLIT_OUTER_MIN_DEG or more
+SPLIT_OUTER_MIN_DEG = 10.0  # (a nearly straight finger's outer side is no side)
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
@@ -724,8 +728,9 @@ def _measure_split(work, f, seg):
     where the growths happen to meet, or only its tip is removed. A parting is a guess,
     so a reading counts only without doubts (and, as any reading, with the finger about
     as wide in its window as near its tip: a parting that frays the tip makes the
-    finger's width, and every window with it, too small); when both partings give one,
-    they must agree. The answer's
+    finger's width, and every window with it, too small), and not one with the parting on
+    the bend's outer side (``_outer_side_parted``: the finger behind was kept); when both
+    partings give one, they must agree. The answer's
     uncertainty includes the parting's (``UNC_PARTED_DEG``).
     """
     chains, _ = _outline_chains(seg.mask)
@@ -741,7 +746,8 @@ def _measure_split(work, f, seg):
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
         # the parting is itself a guess: only a reading without doubts counts, of a finger
         # at least SPLIT_MIN_WIDTH as wide as the fingers together (a sliver of one)
-        if m.confidence >= SPLIT_CONFIDENCE and m.details["finger_width_px"] * f >= SPLIT_MIN_WIDTH * wf:
+        if (m.confidence >= SPLIT_CONFIDENCE and m.details["finger_width_px"] * f >= SPLIT_MIN_WIDTH * wf
+                and not (m.angle_deg >= SPLIT_OUTER_MIN_DEG and _outer_side_parted(kept, removed, m, f))):
             sure.append(m)
     if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
                                                                                        sure[1].angle_unc_deg):
@@ -753,6 +759,36 @@ def _measure_split(work, f, seg):
     m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
     m.details.update(parted_from_another_finger=True)
     return m
+
+
+def _outer_side_parted(kept, removed, m, f) -> bool:
+    """Whether the bend that ``m`` measured on the parted silhouette ``kept`` (working
+    pixels; ``removed`` parted off it) has the parting on its outer side: rays from the
+    vertex out through the bend's outer side (its bisector, and 15 and 30 deg either way)
+    that leave ``kept`` into ``removed`` rather than into the background, at least
+    ``SPLIT_OUTER_RAYS`` of them.
+
+    Kept with the hand, the finger in front has its own outline all round its knuckle:
+    the finger behind shows only beyond its edge on one side, along the finger. Kept the
+    other way, the front finger is removed from the knuckle on, cut across where the
+    growths met, and that cut is the outer side of the bend measured: the bend of the
+    finger behind (5000 hard 50 on some k-means draws: 75 deg for 52, sure)."""
+    v = np.asarray(m.vertex, float) * f
+    out = -(m.proximal.direction + m.distal.direction)
+    out /= np.linalg.norm(out) + 1e-12
+    h, w = kept.shape
+    reach = 4.0 * m.details["finger_width_px"] * f
+    into_removed = []
+    for a in np.radians([-30.0, -15.0, 0.0, 15.0, 30.0]):
+        d = np.array([out[0] * np.cos(a) - out[1] * np.sin(a), out[0] * np.sin(a) + out[1] * np.cos(a)])
+        for t in np.arange(0.5, reach, 0.5):
+            x, y = np.round(v + t * d).astype(int)
+            if not (0 <= x < w and 0 <= y < h):
+                break
+            if not kept[y, x]:
+                into_removed.append(bool(removed[max(0, y - 1):y + 2, max(0, x - 1):x + 2].any()))
+                break
+    return bool(into_removed) and np.mean(into_removed) >= SPLIT_OUTER_RAYS
 
 
 def _picture_exits(mask) -> int:

@@ -1070,6 +1070,43 @@ def test_a_parting_of_two_fingers_that_misleads_is_not_taken(tmp_path, angle, rn
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 3, row
 
 
+def test_the_finger_behind_kept_by_a_parting_is_not_measured():
+    # seed 5000 hard 50 on k-means draw 7920: the index (with the sensor) in front of the
+    # middle finger bent 23 deg further. One parting removed the index from its knuckle
+    # on, cut across where the growths met, and kept the finger behind with the hand: its
+    # bend, 75 deg, measured sure. That cut is the outer side of the bend measured
+    angle = 52.417781107192404
+    m = _measured_with_kmeans_seed(angle, 1335539867, "hard", seed=7920)
+    assert m.status != "ok" or abs(m.angle_deg - angle) < 5, (m.angle_deg, m.reason)
+
+
+def test_a_parting_on_the_outer_side_of_the_bend_is_told_from_one_along_the_finger():
+    from flexcal.vision.angle import _outer_side_parted
+    from flexcal.vision.measurement import AngleMeasurement, Arm
+    # a bend of 60 deg at (300, 200): the hand comes from the left, the finger goes down
+    # to the right; the finger's silhouette is 30 px wide
+    kept = np.zeros((480, 640), np.uint8)
+    cv2.line(kept, (0, 200), (300, 200), 1, 30)
+    tip = (300 + int(200 * np.cos(np.radians(60))), 200 + int(200 * np.sin(np.radians(60))))
+    cv2.line(kept, (300, 200), tip, 1, 30)
+    hand_dir, finger_dir = np.array([-1.0, 0.0]), np.array([np.cos(np.radians(60)), np.sin(np.radians(60))])
+    m = AngleMeasurement(angle_deg=60.0, vertex=(300.0, 200.0),
+                         proximal=Arm(np.array([200.0, 200.0]), hand_dir, 100.0),
+                         distal=Arm(np.array([350.0, 287.0]), finger_dir, 100.0),
+                         details={"finger_width_px": 30.0})
+    # another finger removed along the inside of the bend (beneath the finger): no
+    removed = np.zeros_like(kept)
+    cv2.line(removed, (250, 235), (380, 420), 1, 25)
+    removed &= ~kept
+    assert not _outer_side_parted(kept > 0, removed > 0, m, 1.0)
+    # the front finger removed from the knuckle on, over the bend's outer side: yes
+    removed = np.zeros_like(kept)
+    cv2.circle(removed, (300, 200), 60, 1, -1)
+    removed[kept > 0] = 0
+    removed[200:, :] = 0
+    assert _outer_side_parted(kept > 0, removed > 0, m, 1.0)
+
+
 def _drawn_photo(tmp_path, angle, rng, transform=None):
     """A cluttered drawing saved as a JPEG photo (``transform``ed first, if given),
     measured as `flexcal measure` does: its row of the angles table."""
