@@ -332,8 +332,10 @@ MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this l
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
-ELSEWHERE = 0.5          # ... the first was no finger: joined to something, or a thin strip (then at most this
-                         # share of the finer silhouette may lie in the first)
+ELSEWHERE = 0.15         # ... the first was no finger: joined to something, or a thin strip (then at most this
+                         # share of the finer silhouette may lie in the strip: a hand and finger taking one in are
+                         # many times its size, renders 0.02-0.04; a third: the strip grown with the shading
+                         # along it, 2026 hard 4 on k-means draw 7920)
 STRAIGHT_TOL = 0.025     # an arm is straight if its midline's residual RMS is under this many widths
 MAX_BEND_DEG = 120.0     # no knuckle bends further (flexion reaches about 90-100 deg)
 MIN_SIDE_STEP = 3.0      # a side of an arm whose colour step across it is under this (median) is no edge
@@ -577,7 +579,9 @@ def _measure_contour(bgr, segmented=None):
     # the picture), a sure answer on the finer silhouette counts, however much smaller
     # (the finer colours parted off what was joined); when it was too thin a strip (a
     # box's blurred edge), only a finer silhouette mostly elsewhere is another candidate
-    # (one mostly within the strip is the strip again: 2026 hard 4, 72 deg off). When
+    # (one mostly within the strip is the strip again: 2026 hard 4, 72 deg off; one three
+    # times its size, holding it, the strip with the shading along it: 2026 hard 4 on
+    # k-means draw 7920, 71 deg off, sure; the hand and finger are many times it). When
     # the first found no part at all, a sure answer on the finer one counts (a sleeve
     # of a poster's colour becomes a part of its own: 5000 hard 52).
     finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)

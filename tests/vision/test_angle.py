@@ -897,12 +897,14 @@ def test_finer_colours_are_tried_when_the_first_found_no_elongated_object(tmp_pa
     _assert_measured(tmp_path, 44.5805758330246, 115769261, "hard", tol=2.0)
 
 
-def test_finer_colours_within_a_strip_too_thin_for_a_finger_are_the_strip_again():
+@pytest.mark.parametrize("seed", [1, 7920])
+def test_finer_colours_within_a_strip_too_thin_for_a_finger_are_the_strip_again(seed):
     # the benchmark's hard render 4 (seed 2026), black glove against a grey box: with
     # k-means' seed 1 the silhouette was the band along the box's edge, too thin; the
     # finer colours found a silhouette mostly within that band, measured 3 deg (truly
-    # 75), sure
-    m = _measured_with_kmeans_seed(74.63685589089647, 1385066308, "hard", seed=1)
+    # 75), sure. With seed 7920 the finer silhouette took in 91 % of the band and the
+    # shading along it, three times its size: the band again, measured 3.8 deg, sure
+    m = _measured_with_kmeans_seed(74.63685589089647, 1385066308, "hard", seed=seed)
     assert m.status != "ok", (m.angle_deg, m.reason)
 
 
