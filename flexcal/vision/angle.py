@@ -77,7 +77,7 @@ from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import colour_steps, cut_contrast, inward_normals, skin_edge
 from flexcal.vision.markers import measure_markers
-from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed
+from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger, split_at_inner_edge)
 
@@ -1201,7 +1201,8 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
     Parameters
     ----------
     image : (H, W) or (H, W, 3|4) ndarray
-        Grey or BGR(A), uint8, uint16 or float. Any size and orientation.
+        Grey or BGR(A), uint8, uint16 or float. Any size and orientation. A grey photo
+        (no colour) is refused: the finger is told from the background by colour.
     roi : (x, y, w, h) or None
         Only look inside this rectangle (pixels). The hand must leave the rectangle
         through one of its sides.
@@ -1242,6 +1243,13 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
         return failed(f"image is too small ({bgr.shape[1]}x{bgr.shape[0]} px); need at least 32 px each way", method)
     if float(cv2.meanStdDev(bgr)[1].max()) < 1.0:      # every channel flat
         return failed("the picture is blank (one flat colour: all black, all white or a lens cap)", method)
+    if is_grey(bgr):
+        # The finger is told from the background by colour (a skin of the wall's
+        # brightness is another colour) and so are the marker dots from the finger: in
+        # grey, darker surfaces pass for the wall in shadow and the silhouette for the
+        # finger may be a piece of it (a render in grey: 0.7 deg for 85, sure)
+        return failed("the photo is grey (no colour): flexcal tells the finger from the background, and marker "
+                      "dots from the finger, by colour; take the photos in colour", method)
     if method == "markers":
         return _shift(measure_markers(bgr), ox, oy)
     segmented = None

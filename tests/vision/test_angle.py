@@ -78,8 +78,29 @@ def test_grey_uint16_and_float_inputs_give_the_same_answer(reference_photo):
     assert m16.angle_deg == pytest.approx(m0.angle_deg, abs=0.05)
     mf = measure_angle(img.astype(np.float32) / 255)
     assert mf.angle_deg == pytest.approx(m0.angle_deg, abs=0.2)
-    grey = measure_angle(cv2.cvtColor(img, cv2.COLOR_BGR2GRAY))
-    assert grey.status in ("ok", "low_confidence", "failed")   # grey photos are legal input
+
+
+def test_a_grey_photo_is_refused_saying_so():
+    # realistic render, pink skin on a wall of its brightness: in grey it was measured
+    # 0.7 deg (truly 85), sure; the colour photo is measured right
+    img, truth = render_finger(84.92, shape=SHAPE, rng=501, difficulty="realistic")
+    assert abs(measure_angle(img).angle_deg - truth.angle_deg) < 1.5
+    grey = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+    ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR), [cv2.IMWRITE_JPEG_QUALITY, 85])
+    for picture in (grey, grey.astype(np.uint16) * 257, cv2.imdecode(jpeg, cv2.IMREAD_COLOR)):
+        for method in ("auto", "contour", "markers"):
+            m = measure_angle(picture, method=method)
+            assert m.status == "failed" and "grey" in m.reason, (method, m.angle_deg, m.reason)
+
+
+def test_a_colour_photo_of_grey_things_is_not_taken_for_a_grey_photo():
+    # a black glove on a grey wall and platform: the light's colour and the camera's
+    # white balance tint a tenth of the pixels by more than the grey photo's 0-1 levels
+    img, truth = render_finger(40.0, shape=SHAPE, rng=3, difficulty="clean", glove="black",
+                               background_bgr=(150, 150, 150), platform="grey")
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - truth.angle_deg) < 1.5, (m.angle_deg, m.reason)
+    assert "grey" in measure_angle(cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)).reason
 
 
 def test_roi_gives_the_same_angle_in_full_image_coordinates(reference_photo):
