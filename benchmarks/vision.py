@@ -2,6 +2,7 @@
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn,cluttered]
                                 [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
+                                [--glove black]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
@@ -22,7 +23,8 @@ measures the same photos with another random start of the colour clustering: ano
 draw of colour clusters, as another photo of the scene could give; the share answered
 and any silent error on several draws say more than one draw does. ``--markers`` renders
 three coloured dots on every finger (proximal, joint, distal) and prints, per suite, the
-share measured from the dots (the rest from the outline).
+share measured from the dots (the rest from the outline). ``--glove NAME`` puts that glove
+(``flexcal.synthetic.GLOVES``) on every rendered finger, the other nuisances as drawn.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ import numpy as np
 from flexcal.measure import measure_file
 from flexcal.synthetic import render_finger
 from flexcal.synthetic.drawn import draw_finger
+from flexcal.synthetic.render import GLOVES
 from flexcal.vision import angle as vision_angle
 
 
@@ -53,7 +56,7 @@ ORIENTATIONS = {"": lambda im: im,
                 "mirror": lambda im: np.ascontiguousarray(im[:, ::-1])}
 
 
-def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False):
+def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None):
     rng = np.random.default_rng(seed)
     files, truth, params = [], [], []
     for i in range(n):
@@ -61,8 +64,9 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
         if difficulty in DRAWN:   # a photo-like drawing, compressed once already
             img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)), cluttered=difficulty == "cluttered")
         else:
+            extra = {} if glove is None else {"glove": glove}
             img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty,
-                                   jpeg_quality=None, markers=markers)
+                                   jpeg_quality=None, markers=markers, **extra)
         # the truth's angle and vertex under their own names, beside the measured ones
         # (the vertex of the render as drawn, not turned)
         p = {(f"true_{k}" if k in ("angle_deg", "vertex_x", "vertex_y") else k): v for k, v in t.as_dict().items()}
@@ -86,7 +90,7 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
-        "suite": difficulty + (" x5" if orientations else ""), "n": len(files),
+        "suite": difficulty + (f"/{glove}" if glove else "") + (" x5" if orientations else ""), "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
         "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
         "answered": answered.mean(), "gross>5": int((err > 5).sum()),
@@ -111,24 +115,31 @@ def main(argv=None):
                     help="also measure each render turned by 90, 180 and 270 deg and mirrored (5 photos each)")
     ap.add_argument("--markers", action="store_true",
                     help="render three coloured marker dots on every finger; prints the share measured from them")
+    ap.add_argument("--glove", choices=[g for g in GLOVES if g],
+                    help="put this glove on every rendered finger (the suites clean, realistic, hard)")
     args = ap.parse_args(argv)
     vision_angle.KMEANS_SEED = args.kmeans_seed
     details = []
     w, h = (int(v) for v in args.size.split("x"))
+    suites = (args.suites.split(",") if args.suites
+              else [s for s in SUITES if not ((args.markers or args.glove) and s in DRAWN)])
+    for suite in suites:       # every suite checked before the first is run
+        if suite not in SUITES:
+            ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
+        for flag, what in ((args.markers, "--markers: the {} suite has no marker dots"),
+                           (args.glove, "--glove: the {} suite is drawn, not rendered with a glove")):
+            if flag and suite in DRAWN:
+                ap.error(what.format(suite) + "; choose from clean, realistic, hard")
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}"
           + (f", k-means seed {args.kmeans_seed}" if args.kmeans_seed else ""))
-    print(f"{'suite':<12} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
+    print(f"{'suite':<16} {'MAE':>6} {'median':>7} {'P95':>6} {'max':>6} {'answered':>9} {'gross>5':>8} "
           f"{'in 2sig':>8} {'img/s':>6}")
     with tempfile.TemporaryDirectory() as tmp:
-        suites = args.suites.split(",") if args.suites else [s for s in SUITES if not (args.markers and s in DRAWN)]
         for suite in suites:
-            if suite not in SUITES:
-                ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
-            if args.markers and suite in DRAWN:
-                ap.error(f"--markers: the {suite} suite has no marker dots; choose from clean, realistic, hard")
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
-            r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers)
-            print(f"{r['suite']:<12} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
+            r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers,
+                          args.glove)
+            print(f"{r['suite']:<16} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}"
                   + (f"   from the dots: {r['by markers']:.0%}" if args.markers else ""), flush=True)
             details += r["details"]

@@ -301,6 +301,12 @@ PINNED_W = 0.3           # the best knuckle places all this close (widths) to th
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
 BEYOND_RATIO = 0.1       # arms beyond the range this much straighter (scores) than at the knuckle found: it may be there
+AGAIN_TURN_DEG = 10.0    # beyond the hand's window the midline turns this much from the hand's arm again
+AGAIN_WIDEN = 1.15       # ... where the silhouette is this much wider than in the hand's window (medians)
+AGAIN_RUN_W = 1.0        # ... over windows (AGAIN_WIN_W long, every half width) starting this many widths apart
+AGAIN_REACH_W = 3.5      # ... the first at most this many widths beyond the hand's window, the last ending a
+AGAIN_WIN_W = 1.5        # width short of the silhouette's end (renders: 0 of 1200 sure right answers; natural
+                         # hands turn up to 7 deg there, and 10-20 deg only at the picture's edge)
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
@@ -486,6 +492,42 @@ def _splits_better_beyond(mid, s, wf, total, b, hi):
                           both + HAND_WIN[0] * wf)
     at_b, beyond = sc[0], sc[1:].min()
     return bool(beyond < min((STRAIGHT_TOL * wf) ** 2, BEYOND_RATIO * at_b))
+
+
+def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
+    """The turn (deg) of the midline (``mid`` at arclengths ``s``, widths ``width``) from
+    the hand's arm (direction ``d_hand``, window ``hand``: (from, to) widths beyond the
+    knuckle at ``b``; the silhouette ends at arclength ``end``) where, beyond that window, it turns by AGAIN_TURN_DEG or more and
+    the silhouette widens by AGAIN_WIDEN over windows AGAIN_RUN_W widths apart; 0 if not.
+
+    The hand runs straight for several finger widths beyond the knuckle, as thick as at
+    its window: a turn there that the silhouette keeps, widening, is the knuckle itself
+    with the arm taken for the hand on the finger. Windows ending within a width of the
+    silhouette's end are left out (the forearm at the picture's edge turns and widens).
+    """
+    in_hand = (s >= b + hand[0] * wf) & (s <= b + hand[1] * wf)
+    if not in_hand.any():
+        return 0.0
+    w_hand = float(np.median(width[in_hand]))
+    run = []
+    for x in np.arange(0.0, AGAIN_REACH_W + 1e-9, 0.5):
+        lo = b + (hand[1] + x) * wf
+        hi = lo + AGAIN_WIN_W * wf
+        if hi > end - wf:
+            break
+        pts = _arm_window(mid, s, lo, hi)
+        turn = 0.0
+        if len(pts) >= 8:
+            d = _robust_line(pts)[1]
+            turn = float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(d, d_hand)))))))
+        sel = (s >= lo) & (s <= hi)
+        if turn > AGAIN_TURN_DEG and np.median(width[sel]) > AGAIN_WIDEN * w_hand:
+            run.append((x, turn))
+            if run[-1][0] - run[0][0] >= AGAIN_RUN_W:
+                return max(t for _, t in run)
+        else:
+            run = []
+    return 0.0
 
 
 def _finger_width(width, s, facing, start):
@@ -1143,6 +1185,16 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         if disagree > max(1.5, 2 * unc):
             conf *= max(0.0, 1 - (disagree - max(1.5, 2 * unc)) / 3.0)
             reasons.append(f"the midline and the edges disagree by {disagree:.1f} deg")
+        again = _turns_again(mid[facing], s[facing], width[facing], b, wf, (hand_lo, hand_hi), dhm, total)
+        if again:
+            # the arm taken for the hand is more of the finger: the silhouette lost a strip
+            # along the finger (a black glove's lit top in the colours of the grey wall in
+            # shadow), and the knuckle, placed by its width, is the second joint or on the
+            # finger itself (black-glove renders: 0.1 deg for 31 and 54, sure)
+            conf = 0.0
+            reasons.append(f"beyond the arm taken for the hand the silhouette turns again ({again:.0f} deg) and "
+                           "widens: that arm may be the finger's, with the knuckle further on (the finger's "
+                           "silhouette narrower than the finger, part of it in the background's colours)")
     if beyond:
         conf = 0.0
         reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "

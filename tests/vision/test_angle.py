@@ -1270,3 +1270,23 @@ def test_a_dark_rim_that_passes_for_a_layer_here_and_there_is_measured_on_the_ou
     img, _ = draw_finger(angle, shape=(480, 640), rng=rng)
     m = measure_angle(img)
     assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5, (m.angle_deg, m.reason)
+
+
+@pytest.mark.parametrize("angle, rng", [(51.87537705780741, 10908), (53.81538248073383, 20957)])
+def test_a_silhouette_narrower_than_the_finger_is_not_measured_on_the_finger(angle, rng):
+    # realistic renders with a black glove, saved as JPEG and read as `flexcal measure`
+    # reads them: a strip along the glove (its lit top) went to the background, the
+    # silhouette's width near the tip was about half the finger's, and the knuckle,
+    # sought so many widths from the tip, was placed on the finger itself (1.5 deg for
+    # 52, 0.5 for 54, sure). Beyond the arm taken for the hand the silhouette turns by
+    # the whole bend, wider.
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    img, truth = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="realistic", glove="black",
+                               jpeg_quality=None)
+    ok, jpeg = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    img = cv2.imdecode(jpeg, cv2.IMREAD_REDUCED_COLOR_2)
+    work, f, seg = _segment(img)
+    first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
+    assert first.status == "failed" and "turns again" in first.reason, (first.angle_deg, first.reason)
+    m = measure_angle(img)
+    assert m.status != "ok" or abs(m.angle_deg - truth.angle_deg) < 1.5, (m.angle_deg, m.reason)
