@@ -608,6 +608,10 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 def _measure_contour(bgr, segmented=None):
     work, f, seg = segmented if segmented is not None else _segment(bgr)
     m = _measure_segmentation(work, f, seg)
+    if seg.shadow_left_out:
+        m = _with_shadow_colours(work, f, m)
+        if m.details.get("shadow_readings_disagree"):
+            return m
     if m.status == "ok" or seg.shadow_is_finger:
         return m
     # How many colours the picture holds is a guess (six clusters); with a cluttered
@@ -640,6 +644,36 @@ def _measure_contour(bgr, segmented=None):
             return m
     m2 = _measure_segmentation(work, f, finer)
     return m2 if m2.status == "ok" else m
+
+
+def _with_shadow_colours(work, f, m):
+    """The measurement ``m`` of a silhouette that left out colours like the wall's (or
+    platform's) in shadow, checked against the silhouette with them (``segment_finger``'s
+    ``shadow_as_finger``).
+
+    A black glove is dark enough for its lit top or its underside to pass for a grey
+    platform or wall in shadow: the silhouette left is a strip of the glove, and its
+    narrow "finger" puts the knuckle on the finger itself, sure (black-glove renders:
+    0.4 deg for 42, where the silhouette with those colours gives 42.6). So when both
+    are sure and disagree, neither is taken; when only the one with those colours is
+    sure, it is (a shadow joined to the finger would make it unsure: a blob at its tip,
+    a wider finger); otherwise ``m`` stands.
+    """
+    alt = segment_finger(work, seed=KMEANS_SEED, shadow_as_finger=True)
+    if alt.mask is None:
+        return m
+    m2 = _measure_segmentation(work, f, alt)
+    if m2.status != "ok":
+        return m
+    if m.status != "ok":
+        return m2
+    if abs(m.angle_deg - m2.angle_deg) > 3 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg):
+        bad = failed(f"the silhouettes with and without the colours like the wall's in shadow give different "
+                     f"bends ({m.angle_deg:.0f} and {m2.angle_deg:.0f} deg): a dark glove or skin passes for the "
+                     "background in shadow; photograph against a lighter background of another colour", "contour")
+        bad.details.update(shadow_readings_disagree=True)
+        return bad
+    return m
 
 
 def _measure_segmentation(work, f, seg):

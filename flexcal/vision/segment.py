@@ -54,6 +54,7 @@ class Segmentation:
     centres: np.ndarray | None = None  # the clusters' colour features
     background: np.ndarray | None = None  # per cluster, whether it is background
     shadow_is_finger: bool = False    # colours like the wall's in shadow were taken as the finger's
+    shadow_left_out: bool = False     # ... or there were such colours, and they were left out
     cut_off: np.ndarray | None = None  # thick pieces of the part the finishing cut off (``_finish``)
     fg: np.ndarray | None = None      # the foreground (before bridging) the part was chosen from
     tip_clusters: np.ndarray | None = None  # per cluster, whether it is one of the fingertip's colours
@@ -388,8 +389,14 @@ def _foreground(labels, background):
     return cv2.morphologyEx(fg, cv2.MORPH_CLOSE, kern)
 
 
-def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, seed: int = 0) -> Segmentation:
-    """Segment the hand and finger in a BGR uint8 image (working resolution)."""
+def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, seed: int = 0,
+                   shadow_as_finger: bool = False) -> Segmentation:
+    """Segment the hand and finger in a BGR uint8 image (working resolution).
+
+    Colours like the wall's (or platform's) in shadow are left out, unless nothing
+    finger-like is left without them or ``shadow_as_finger`` asks for the silhouette
+    with them (then there is none where no colour is like that).
+    """
     h, w = bgr.shape[:2]
     # colours are clustered on a thumbnail 160 px on its long side: the same thumbnail,
     # turned, for a photo turned by 90 deg
@@ -420,13 +427,17 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
             ratio = np.exp((centres[c, 2] - centres[bg, 2]) / _LIGHT_SCALE)
             if dchroma < _SHADOW_CHROMA and _SHADOW_RATIO[0] < ratio < _SHADOW_RATIO[1]:
                 shadow[c] = True
+    if shadow_as_finger and not shadow.any():
+        return Segmentation(None, "no colour is like the wall's in shadow")
     if (background | shadow).all() or not background.any():
         return Segmentation(None, "could not tell the finger from the background (no distinct foreground colour)")
 
     labels = _classify(bgr, labels_s.astype(np.uint8), centres)
     border_full = border_pixels((h, w))
-    fg = _foreground(labels, background | shadow)
-    best, comp, candidates = _pick(fg, border_full)
+    best = None
+    if not shadow_as_finger:
+        fg = _foreground(labels, background | shadow)
+        best, comp, candidates = _pick(fg, border_full)
     shadow_is_finger = False
     if best is None and shadow.any():
         # Skin or a glove of the wall's hue, only darker, looks like the wall in shadow;
@@ -464,6 +475,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     contrast = float(np.linalg.norm(fg_centre - bg_centre))
     return Segmentation(filled, contrast=contrast, n_candidates=candidates, part=part, labels=labels,
                         centres=centres, background=background, shadow_is_finger=shadow_is_finger,
+                        shadow_left_out=bool(shadow.any()) and not shadow_is_finger,
                         cut_off=cut_off, fg=fg, tip_clusters=tip_clusters, tip_half=half)
 
 

@@ -1290,3 +1290,29 @@ def test_a_silhouette_narrower_than_the_finger_is_not_measured_on_the_finger(ang
     assert first.status == "failed" and "turns again" in first.reason, (first.angle_deg, first.reason)
     m = measure_angle(img)
     assert m.status != "ok" or abs(m.angle_deg - truth.angle_deg) < 1.5, (m.angle_deg, m.reason)
+
+
+def test_a_black_glove_passing_for_the_platform_in_shadow_is_not_measured_as_a_strip_of_it():
+    # realistic render, a black glove on a black platform: the glove's colours pass for
+    # the grey platform's in shadow and are left out; what is left is a strip along the
+    # hand, measured 0.4 deg for 42, sure. With those colours the silhouette is the
+    # glove's, and measures right: the two disagree, and neither is taken
+    from flexcal.vision.angle import _measure_segmentation, _segment
+    from flexcal.vision.segment import segment_finger
+    img, truth = render_finger(42.02246140265424, shape=(960, 1280), rng=20958, difficulty="realistic",
+                               glove="black", jpeg_quality=None)
+    ok, jpeg = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    img = cv2.imdecode(jpeg, cv2.IMREAD_REDUCED_COLOR_2)
+    work, f, seg = _segment(img)
+    assert seg.shadow_left_out
+    with_shadow = segment_finger(work, shadow_as_finger=True)
+    assert with_shadow.shadow_is_finger and with_shadow.mask.sum() > 3 * seg.mask.sum()
+    m2 = _measure_segmentation(work, f, with_shadow)
+    assert m2.status == "ok" and abs(m2.angle_deg - truth.angle_deg) < 1.5, (m2.angle_deg, m2.reason)
+    m = measure_angle(img)
+    assert m.status == "failed" and "in shadow" in m.reason, (m.angle_deg, m.reason)
+    # a photo with no such colours has no silhouette with them
+    img, _ = render_finger(40.0, shape=SHAPE, rng=2, difficulty="clean")
+    work, f, seg = _segment(img)
+    assert not seg.shadow_left_out and not seg.shadow_is_finger
+    assert segment_finger(work, shadow_as_finger=True).mask is None
