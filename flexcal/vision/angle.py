@@ -42,7 +42,10 @@ poster of another colour joined to the finger drops out; only a sure answer ther
 counts); if that does not give an answer, it refuses rather than guess. Its confidence
 drops when an arm bends inside its window; a silhouette that leaves the picture in more
 than one place (a box joined to the hand reaches the edge too: one side of the "hand"
-may be its edge) is not measured sure; there is no answer from a silhouette whose
+may be its edge) is not measured sure, nor one that, beyond the arm taken for the hand,
+turns again and widens (that arm is the finger's: the silhouette is narrower than the
+finger, part of it in the background's colours, and the knuckle was sought too near the
+tip; the longer search above may still find it); there is no answer from a silhouette whose
 outline crosses no colour step along one side of an arm (that side follows the shading
 on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
 tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
@@ -51,6 +54,10 @@ clusters up); a sure answer on that silhouette counts when it mostly agrees with
 first (intersection over union at least 0.85), or when the first was no hand and finger:
 joined to something (the finer colours may part it off), a strip too thin for a
 finger (then only a finer silhouette mostly elsewhere), or no part at all.
+When colours like the wall's in shadow were left out of the silhouette, the silhouette
+with them is measured as well (a black glove's colours can pass for a grey wall's or
+platform's in shadow, leaving a strip of the glove): both sure and disagreeing, neither
+is taken; only the one with them sure, it is (``_with_shadow_colours``).
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
@@ -662,7 +669,11 @@ def _with_shadow_colours(work, f, m):
     alt = segment_finger(work, seed=KMEANS_SEED, shadow_as_finger=True)
     if alt.mask is None:
         return m
-    m2 = _measure_segmentation(work, f, alt)
+    # (against a sure answer the silhouette alone: a check, not another search, on a
+    # tenth of clean photos; for an unsure one, also the rebuilt silhouettes)
+    m2 = _measure_silhouette(work, f, alt.mask, alt.contrast, cut_off=alt.cut_off_from(alt.mask, alt.cut_off))
+    if m2.status != "ok" and m.status != "ok":
+        m2 = _measure_segmentation(work, f, alt)
     if m2.status != "ok":
         return m
     if m.status != "ok":
