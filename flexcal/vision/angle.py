@@ -504,8 +504,9 @@ def _splits_better_beyond(mid, s, wf, total, b, hi):
 def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
     """The turn (deg) of the midline (``mid`` at arclengths ``s``, widths ``width``) from
     the hand's arm (direction ``d_hand``, window ``hand``: (from, to) widths beyond the
-    knuckle at ``b``; the silhouette ends at arclength ``end``) where, beyond that window, it turns by AGAIN_TURN_DEG or more and
-    the silhouette widens by AGAIN_WIDEN over windows AGAIN_RUN_W widths apart; 0 if not.
+    knuckle at ``b``; the silhouette ends at arclength ``end``) where, beyond that
+    window, it turns by more than AGAIN_TURN_DEG and the silhouette is more than
+    AGAIN_WIDEN times as wide, over windows AGAIN_RUN_W widths apart; 0 if nowhere.
 
     The hand runs straight for several finger widths beyond the knuckle, as thick as at
     its window: a turn there that the silhouette keeps, widening, is the knuckle itself
@@ -1235,7 +1236,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             # the arm taken for the hand is more of the finger: the silhouette lost a strip
             # along the finger (a black glove's lit top in the colours of the grey wall in
             # shadow), and the knuckle, placed by its width, is the second joint or on the
-            # finger itself (black-glove renders: 0.1 deg for 31 and 54, sure)
+            # finger itself (black-glove renders: 1.5 deg for 52, 0.5 for 54, sure)
             conf = 0.0
             reasons.append(f"beyond the arm taken for the hand the silhouette turns again ({again:.0f} deg) and "
                            "widens: that arm may be the finger's, with the knuckle further on (the finger's "
