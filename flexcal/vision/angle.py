@@ -364,7 +364,11 @@ def _kink(pm):
     half = len(pm) // 2
     if half < 6:
         return 0.0
-    d1, d2 = _robust_line(pm[:half])[1], _robust_line(pm[half:])[1]
+    return _line_angle(_robust_line(pm[:half])[1], _robust_line(pm[half:])[1])
+
+
+def _line_angle(d1, d2):
+    """The angle (deg, 0-90) between two lines of unit directions ``d1`` and ``d2``."""
     return float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(d1, d2)))))))
 
 
@@ -524,10 +528,7 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
         if hi > end - wf:
             break
         pts = _arm_window(mid, s, lo, hi)
-        turn = 0.0
-        if len(pts) >= 8:
-            d = _robust_line(pts)[1]
-            turn = float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(d, d_hand)))))))
+        turn = _line_angle(_robust_line(pts)[1], d_hand) if len(pts) >= 8 else 0.0
         sel = (s >= lo) & (s <= hi)
         if turn > AGAIN_TURN_DEG and np.median(width[sel]) > AGAIN_WIDEN * w_hand:
             run.append((x, turn))

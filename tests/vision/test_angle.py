@@ -851,15 +851,21 @@ def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
     assert "too thin (" in m.reason and "under 3.3%" in m.reason and "larger photo" in m.reason, m.reason
 
 
-def _measured_with_kmeans_seed(angle, rng, difficulty, seed):
-    """The benchmark's photo (a 1280x960 render saved as JPEG q90, read at half size)
-    measured with k-means started from another random seed (every segmentation, as
-    ``benchmarks/vision.py --kmeans-seed``): another draw of the colour clusters, as
-    another photo of the same scene could give."""
-    from flexcal.vision import angle as vision_angle
-    img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty=difficulty, jpeg_quality=None)
+def _benchmark_photo(angle, rng, difficulty, **params):
+    """The benchmark's photo: a 1280x960 render (``params`` override its nuisances)
+    saved as JPEG q90 and read at half size, as `flexcal measure` reads it; and its truth."""
+    img, truth = render_finger(angle, shape=(960, 1280), rng=rng, difficulty=difficulty, jpeg_quality=None,
+                               **params)
     _, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
-    work = cv2.imdecode(buf, cv2.IMREAD_REDUCED_COLOR_2)
+    return cv2.imdecode(buf, cv2.IMREAD_REDUCED_COLOR_2), truth
+
+
+def _measured_with_kmeans_seed(angle, rng, difficulty, seed):
+    """The benchmark's photo (``_benchmark_photo``) measured with k-means started from
+    another random seed (every segmentation, as ``benchmarks/vision.py --kmeans-seed``):
+    another draw of the colour clusters, as another photo of the same scene could give."""
+    from flexcal.vision import angle as vision_angle
+    work, _ = _benchmark_photo(angle, rng, difficulty)
     default, vision_angle.KMEANS_SEED = vision_angle.KMEANS_SEED, seed
     try:
         return vision_angle._measure_contour(work)
@@ -1281,10 +1287,7 @@ def test_a_silhouette_narrower_than_the_finger_is_not_measured_on_the_finger(ang
     # 52, 0.5 for 54, sure). Beyond the arm taken for the hand the silhouette turns by
     # the whole bend, wider.
     from flexcal.vision.angle import _measure_silhouette, _segment
-    img, truth = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="realistic", glove="black",
-                               jpeg_quality=None)
-    ok, jpeg = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
-    img = cv2.imdecode(jpeg, cv2.IMREAD_REDUCED_COLOR_2)
+    img, truth = _benchmark_photo(angle, rng, "realistic", glove="black")
     work, f, seg = _segment(img)
     first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
     assert first.status == "failed" and "turns again" in first.reason, (first.angle_deg, first.reason)
@@ -1299,10 +1302,7 @@ def test_a_black_glove_passing_for_the_platform_in_shadow_is_not_measured_as_a_s
     # glove's, and measures right: the two disagree, and neither is taken
     from flexcal.vision.angle import _measure_segmentation, _segment
     from flexcal.vision.segment import segment_finger
-    img, truth = render_finger(42.02246140265424, shape=(960, 1280), rng=20958, difficulty="realistic",
-                               glove="black", jpeg_quality=None)
-    ok, jpeg = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
-    img = cv2.imdecode(jpeg, cv2.IMREAD_REDUCED_COLOR_2)
+    img, truth = _benchmark_photo(42.02246140265424, 20958, "realistic", glove="black")
     work, f, seg = _segment(img)
     assert seg.shadow_left_out
     with_shadow = segment_finger(work, shadow_as_finger=True)
