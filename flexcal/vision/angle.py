@@ -64,11 +64,7 @@ the "finger" is as wide as the hand, forks, or bends most where the two part. Th
 silhouette is parted at the strongest colour edges between the two outer sides (the
 front finger's edge across the one behind: ``segment.split_at_inner_edge``) and each
 part, with the hand, is measured; only an answer without doubts counts
-(``_measure_split``). When it forks into two free branches (the finger behind bent
-another way), it is parted between the branches, each kept with the hand in turn
-(``_measure_fork``): two sure readings that disagree refuse it (either finger could be
-in front); one sure reading counts unless its cut crosses a clearly weaker colour step
-than the other parting's (it cut across the front finger's skin, not along its edge).
+(``_measure_split``).
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -344,10 +340,6 @@ SPLIT_OUTER_RAYS = 0.4   # ... and not when this share of rays out through the b
 SPLIT_OUTER_MIN_DEG = 10.0  # (a nearly straight finger's outer side is no side)
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
-FORK_SEED_W = 1.5        # a fork's branches are seeded this many widths (and more) from the other branch
-FORK_STEP_SHARE = 0.8    # ... and a parting's sure reading counts, when the other parting's is not sure, if its
-                         # cut's colour step is at least this share of the other cut's (drawn fingers, 1200
-                         # turned: the finger behind kept and measured sure at 0.21 and 0.67; right ones from 0.14)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
@@ -395,10 +387,9 @@ def _skin_midline(sides, direction):
     return mids[np.argsort(mids @ direction)]
 
 
-def _free_branches(mask, width_px) -> list[np.ndarray]:
-    """The branches of the silhouette's skeleton that end freely (not at the picture's
-    edge) and are longer than ``FORK_WIDTHS`` finger widths (``width_px``, working
-    pixels): the skeleton's points (x, y, working pixels) of each, one array per free end.
+def _free_branches(mask, width_px):
+    """How many branches of the silhouette's skeleton end freely (not at the picture's
+    edge) and are longer than ``FORK_WIDTHS`` finger widths (``width_px``, working pixels).
 
     A hand and finger is one tube with one free end, the fingertip; a second long free
     branch is something else joined to it (another finger, an object, a cable).
@@ -421,12 +412,7 @@ def _free_branches(mask, width_px) -> list[np.ndarray]:
     n, comp = cv2.connectedComponents(((sk > 0) & ~junctions).astype(np.uint8), connectivity=8)
     length = np.bincount(comp.ravel(), minlength=n) * q
     ids = comp[ends]
-    out = []
-    for i in ids[ids > 0]:
-        if length[i] > FORK_WIDTHS * width_px:
-            ys, xs = np.nonzero(comp == i)
-            out.append(np.column_stack([xs + b[1].start, ys + b[0].start]) * q + (q - 1) / 2)
-    return out
+    return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
 def _cut_short(tip, ahead, cut_off, width_px) -> bool:
@@ -665,7 +651,7 @@ def _measure_contour(bgr, segmented=None):
             agree = no_finger == "joined" or np.sum(a & b) >= AGREE_IOU * np.sum(a | b)
         if not agree:
             return m
-    m2 = _measure_segmentation(work, f, finer, part_forks=False)
+    m2 = _measure_segmentation(work, f, finer)
     return m2 if m2.status == "ok" else m
 
 
@@ -689,7 +675,7 @@ def _with_shadow_colours(work, f, m):
     # tenth of clean photos; for an unsure one, also the rebuilt silhouettes)
     m2 = _measure_silhouette(work, f, alt.mask, alt.contrast, cut_off=alt.cut_off_from(alt.mask, alt.cut_off))
     if m2.status != "ok" and m.status != "ok":
-        m2 = _measure_segmentation(work, f, alt, part_forks=False)
+        m2 = _measure_segmentation(work, f, alt)
     if m2.status != "ok":
         return m
     if m.status != "ok":
@@ -703,14 +689,10 @@ def _with_shadow_colours(work, f, m):
     return m
 
 
-def _measure_segmentation(work, f, seg, part_forks=True):
+def _measure_segmentation(work, f, seg):
     """Measure one segmentation of the working image: its silhouette and, when that is
     unsure, the alternatives (a slender finger's knuckle beyond the usual range, the
-    silhouette in only the forearm's colours, two fingers parted). A fork is parted
-    (``_measure_fork``) only with ``part_forks``: on the first segmentation, not on the
-    ones tried after it (in finer colours an answer counts however little its silhouette
-    overlaps a forked first one, and a parting there kept the finger behind: drawn
-    fingers, 52 deg for 10, sure)."""
+    silhouette in only the forearm's colours)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
     cut_off = seg.cut_off_from(seg.mask, seg.cut_off)
@@ -778,13 +760,7 @@ def _measure_segmentation(work, f, seg, part_forks=True):
                               "ambiguous; photograph with the second joint straight and nothing touching the hand",
                               "contour")
     if m.status != "ok" and best is None and m.details.get("two_fingers"):
-        parted = None
-        if m.details.get("forks") and part_forks:
-            parted = _measure_fork(work, f, seg, m.details["finger_width_px"] * f)
-        if parted is None:
-            parted = _measure_split(work, f, seg)
-        if parted is not None:      # (an answer, or a refusal saying that either finger could be in front)
-            m = parted
+        m = _measure_split(work, f, seg) or m
     if seg.shadow_is_finger and m.status != "ok":
         # the finger is in the colour of the wall in shadow: its silhouette may be only
         # its shaded half (the lit half in the wall's colour); only a sure answer counts
@@ -875,53 +851,6 @@ def _measure_split(work, f, seg):
     m = min(sure, key=lambda m: m.angle_unc_deg)
     m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
     m.details.update(parted_from_another_finger=True)
-    return m
-
-
-def _measure_fork(work, f, seg, wf):
-    """The front finger's bend when the silhouette forks into two free branches (another
-    finger behind it, bent another way, or an object joined to it); None when no parting
-    gives a sure answer. ``wf``: the finger's width (working pixels).
-
-    The silhouette is parted at the strongest colour edges between the branches
-    (``segment.split_at_inner_edge``, seeded along each branch from ``FORK_SEED_W`` widths
-    of the other on, and where the arm leaves the picture), each branch kept with the
-    hand in turn, and each parting is measured. Kept with the hand, the finger in front
-    is parted from the one behind along its own edge; kept the other way, the front
-    finger is cut across where the growths met, and the finger behind with the stub may
-    measure sure too. So when both readings are sure and disagree, neither is taken;
-    when one is, it is taken unless its cut crosses a clearly weaker colour step than
-    the other's (``cut_contrast``, under ``FORK_STEP_SHARE`` of it: across the front
-    finger's skin rather than along its edge). The answer's uncertainty includes the
-    parting's (``UNC_PARTED_DEG``).
-    """
-    branches = _free_branches(seg.mask, wf)
-    if len(branches) != 2:
-        return None
-    seeds = []
-    for pts, other in ((branches[0], branches[1]), (branches[1], branches[0])):
-        seeds.append(pts[cKDTree(other).query(pts)[0] >= FORK_SEED_W * wf])
-    ys, xs = np.nonzero(border_pixels(seg.mask.shape) & (seg.mask > 0))
-    hand = np.column_stack([xs, ys])
-    partings = [(cut_contrast(work, seg.mask, kept) or 0.0,
-                 _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None)))
-                for kept, _ in split_at_inner_edge(work, seg.mask, seeds, hand, 0.2 * wf)]
-    sure = [(step, m) for step, m in partings if m.status == "ok"]
-    if len(sure) == 2:
-        (_, a), (_, b) = sure
-        if abs(a.angle_deg - b.angle_deg) > 3 * np.hypot(a.angle_unc_deg, b.angle_unc_deg):
-            return failed(f"the silhouette forks into two fingers, and either could be the one in front "
-                          f"({a.angle_deg:.0f} or {b.angle_deg:.0f} deg); curl the other fingers out of the side "
-                          "view", "contour")
-    elif len(sure) == 1 and len(partings) == 2:
-        other_step = next(step for step, m in partings if m.status != "ok")
-        if sure[0][0] < FORK_STEP_SHARE * other_step:
-            return None
-    if not sure:
-        return None
-    m = min((m for _, m in sure), key=lambda m: m.angle_unc_deg)
-    m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
-    m.details.update(parted_from_another_finger=True, fork_parted=True)
     return m
 
 
@@ -1037,12 +966,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return fail("the finger seems cut short: a thick piece of it lies just beyond what was taken for its tip, "
                     "joined by a thin neck or not at all (a band, or the finger's lit side, in the background's "
                     "colours); photograph against a background of another colour")
-    if len(_free_branches(mask, wf)) > 1:
-        m = fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                 "or finger; curl the other fingers out of the side view, move the object, or give an ROI "
-                 "around the finger", foreign=True, two_fingers=True, joined=True)
-        m.details.update(forks=True)
-        return m
+    if _free_branches(mask, wf) > 1:
+        return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
+                    "or finger; curl the other fingers out of the side view, move the object, or give an ROI "
+                    "around the finger", foreign=True, two_fingers=True, joined=True)
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
