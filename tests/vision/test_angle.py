@@ -214,6 +214,8 @@ def test_an_object_joined_to_the_hand_is_refused_not_measured():
     work, f, seg = _segment(img)
     m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
     assert m.status == "failed" and "forks" in m.reason
+    # the fixes a user has: the other fingers out of the way, the object moved, an ROI
+    assert all(fix in m.reason for fix in ("curl the other fingers", "move the object", "ROI"))
     # the arm grown from its colour over the picture leaves the rod's blurred sides out,
     # and the rod (under half a finger wide) then drops as a thin attachment: measuring
     # that silhouette is fine, being misled by the rod is not
