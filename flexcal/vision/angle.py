@@ -618,8 +618,8 @@ def _measure_contour(bgr, segmented=None):
     work, f, seg = segmented if segmented is not None else _segment(bgr)
     m = _measure_segmentation(work, f, seg)
     if seg.shadow_left_out:
-        m = _with_shadow_colours(work, f, m)
-        if m.details.get("shadow_readings_disagree"):
+        m, disagree = _with_shadow_colours(work, f, m)
+        if disagree:
             return m
     if m.status == "ok" or seg.shadow_is_finger:
         return m
@@ -666,27 +666,27 @@ def _with_shadow_colours(work, f, m):
     0.4 deg for 42, where the silhouette with those colours gives 42.6). So when both
     are sure and disagree, neither is taken; when only the one with those colours is
     sure, it is (a shadow joined to the finger would make it unsure: a blob at its tip,
-    a wider finger); otherwise ``m`` stands.
+    a wider finger); otherwise ``m`` stands. Returns (the measurement, whether it is a
+    refusal because the two disagree: nothing else is to be tried then).
     """
     alt = segment_finger(work, seed=KMEANS_SEED, shadow_as_finger=True)
     if alt.mask is None:
-        return m
+        return m, False
     # (against a sure answer the silhouette alone: a check, not another search, on a
     # tenth of clean photos; for an unsure one, also the rebuilt silhouettes)
     m2 = _measure_silhouette(work, f, alt.mask, alt.contrast, cut_off=alt.cut_off_from(alt.mask, alt.cut_off))
     if m2.status != "ok" and m.status != "ok":
         m2 = _measure_segmentation(work, f, alt)
     if m2.status != "ok":
-        return m
+        return m, False
     if m.status != "ok":
-        return m2
+        return m2, False
     if abs(m.angle_deg - m2.angle_deg) > 3 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg):
-        bad = failed(f"the silhouettes with and without the colours like the wall's in shadow give different "
-                     f"bends ({m.angle_deg:.0f} and {m2.angle_deg:.0f} deg): a dark glove or skin passes for the "
-                     "background in shadow; photograph against a lighter background of another colour", "contour")
-        bad.details.update(shadow_readings_disagree=True)
-        return bad
-    return m
+        return failed(f"the silhouettes with and without the colours like the wall's in shadow give different "
+                      f"bends ({m.angle_deg:.0f} and {m2.angle_deg:.0f} deg): a dark glove or skin passes for the "
+                      "background in shadow; photograph against a lighter background of another colour",
+                      "contour"), True
+    return m, False
 
 
 def _measure_segmentation(work, f, seg):
