@@ -708,7 +708,7 @@ def test_a_piece_counts_as_cut_off_the_tip_only_ahead_of_it():
                            ((135, 95), False)]:    # more than 1.5 widths away
         piece = np.zeros((200, 200), bool)
         piece[y0:y0 + 10, x0:x0 + 10] = True
-        assert _cut_short(tip, ahead, piece, wf) == want, (x0, y0)
+        assert (_cut_short(tip, ahead, piece, wf) is not None) == want, (x0, y0)
 
 
 @pytest.mark.parametrize("angle, rng, turn", [(65.98032071996897, 986882917, cv2.ROTATE_180),
@@ -892,6 +892,19 @@ def test_a_stub_ending_at_a_band_is_cut_short_in_its_own_tips_colours():
     # the first part's tip, a box joined to the hand)
     m = _measured_with_kmeans_seed(54.415127118066295, 251582544, "hard", seed=2)
     assert m.status != "ok", (m.angle_deg, m.reason)
+
+
+@pytest.mark.parametrize("angle, rng, seed", [(71.7540310509782, 1216593277, 1),
+                                              (54.23149151424852, 284666435, 6)])
+def test_a_finger_cut_short_is_measured_on_finer_colours_that_hold_the_rest_of_it(angle, rng, seed):
+    # the benchmark's realistic renders 71 and 48 (seed 5000) on other k-means draws: a
+    # tape band in the background's colours cut the finger, and the rest of it beyond
+    # the band lay ahead of the silhouette's "tip" (refused, cut short). Segmented in
+    # finer colours the band joins them: that silhouette holds the first and the rest of
+    # the finger, and measures sure (it overlaps the first too little to count as
+    # agreeing with it otherwise: 0.64 and 0.22 of the union)
+    m = _measured_with_kmeans_seed(angle, rng, "realistic", seed=seed)
+    assert m.status == "ok" and abs(m.angle_deg - angle) < 1.0, (m.angle_deg, m.reason)
 
 
 def test_a_stub_joined_to_the_rest_of_the_finger_by_a_thin_rim_is_cut_short(tmp_path):
