@@ -654,12 +654,13 @@ def _measure_contour(bgr, segmented=None):
         return m
     if seg.mask is not None:
         a, b = seg.mask > 0, finer.mask > 0
+        both = np.sum(a & b)
         no_finger, rest = m.details.get("no_finger"), m.details.get("cut_short")
         if no_finger == "thin":
-            agree = np.sum(a & b) <= ELSEWHERE * np.sum(b)
+            agree = both <= ELSEWHERE * np.sum(b)
         else:
-            agree = (no_finger == "joined" or np.sum(a & b) >= AGREE_IOU * np.sum(a | b)
-                     or (rest is not None and np.sum(a & b) >= AGREE_IOU * np.sum(a)
+            agree = (no_finger == "joined" or both >= AGREE_IOU * np.sum(a | b)
+                     or (rest is not None and both >= AGREE_IOU * np.sum(a)
                          and np.sum(rest & b) >= AGREE_IOU * np.sum(rest)))
         if not agree:
             return m
