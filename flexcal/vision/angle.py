@@ -43,9 +43,10 @@ counts); if that does not give an answer, it refuses rather than guess. Its conf
 drops when an arm bends inside its window; a silhouette that leaves the picture in more
 than one place (a box joined to the hand reaches the edge too: one side of the "hand"
 may be its edge) is not measured sure, nor one that, beyond the arm taken for the hand,
-turns again and widens (that arm is the finger's: the silhouette is narrower than the
-finger, part of it in the background's colours, and the knuckle was sought too near the
-tip; the longer search above may still find it); there is no answer from a silhouette whose
+turns again and widens, or turns right beyond that arm and keeps the turn (that arm is
+the finger's: the silhouette is narrower than the finger, part of it in the
+background's colours, or its tip is frayed, and the knuckle was sought too near the tip;
+the longer search above may still find it); there is no answer from a silhouette whose
 outline crosses no colour step along one side of an arm (that side follows the shading
 on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
 tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
@@ -316,6 +317,8 @@ AGAIN_RUN_W = 1.0        # ... over windows (AGAIN_WIN_W long, every half width)
 AGAIN_REACH_W = 3.5      # ... the first at most this many widths beyond the hand's window, the last ending a
 AGAIN_WIN_W = 1.5        # width short of the silhouette's end (renders: 0 of 1200 sure right answers; natural
                          # hands turn up to 7 deg there, and 10-20 deg only at the picture's edge)
+AGAIN_NEAR_W = 1.0       # ... or, at any width, from this close to the hand's window on to the last window
+                         # (renders: right answers turn at most 6.6 deg over such a run, 828 of them)
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
 TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confidence
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
@@ -516,32 +519,50 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
     the hand's arm (direction ``d_hand``, window ``hand``: (from, to) widths beyond the
     knuckle at ``b``; the silhouette ends at arclength ``end``) where, beyond that
     window, it turns by more than AGAIN_TURN_DEG and the silhouette is more than
-    AGAIN_WIDEN times as wide, over windows AGAIN_RUN_W widths apart; 0 if nowhere.
+    AGAIN_WIDEN times as wide, over windows AGAIN_RUN_W widths apart; or, at any width,
+    from within AGAIN_NEAR_W widths of the window on to the last window; 0 if nowhere.
 
     The hand runs straight for several finger widths beyond the knuckle, as thick as at
     its window: a turn there that the silhouette keeps, widening, is the knuckle itself
-    with the arm taken for the hand on the finger. Windows ending within a width of the
-    silhouette's end are left out (the forearm at the picture's edge turns and widens).
+    with the arm taken for the hand on the finger. Right beyond the window the back of
+    the hand is flat whatever the width: a turn that starts there and is kept as far as
+    the windows reach is the knuckle too, with the second joint taken for it and the
+    proximal phalanx for the hand (a tip frayed by the segmentation makes the finger's
+    width, and with it the knuckle's distance from the tip, too small: 10000 hard 11,
+    15 deg for 22, sure; the widening there is only the knuckle's flare, 1.06-1.12x). A
+    turn that straightens again is not (something joined along the hand: 10000
+    realistic 76 upside down, 14-24 deg over 2.5 widths, then 1, measured right).
+    Windows ending within a width of the silhouette's end are left out (the forearm at
+    the picture's edge turns and widens).
     """
     in_hand = (s >= b + hand[0] * wf) & (s <= b + hand[1] * wf)
     if not in_hand.any():
         return 0.0
     w_hand = float(np.median(width[in_hand]))
-    run = []
+    windows = []    # (start beyond the hand's window in widths, turn, wider)
     for x in np.arange(0.0, AGAIN_REACH_W + 1e-9, 0.5):
         lo = b + (hand[1] + x) * wf
         hi = lo + AGAIN_WIN_W * wf
         if hi > end - wf:
             break
-        pts = _arm_window(mid, s, lo, hi)
-        turn = _line_angle(_robust_line(pts)[1], d_hand) if len(pts) >= 8 else 0.0
         sel = (s >= lo) & (s <= hi)
-        if turn > AGAIN_TURN_DEG and np.median(width[sel]) > AGAIN_WIDEN * w_hand:
+        if sel.sum() < 8:
+            windows.append((x, 0.0, False))
+            continue
+        turn = _line_angle(_robust_line(mid[sel])[1], d_hand)
+        windows.append((x, turn, np.median(width[sel]) > AGAIN_WIDEN * w_hand))
+    run = []
+    for x, turn, wider in windows:
+        if turn > AGAIN_TURN_DEG and wider:
             run.append((x, turn))
             if run[-1][0] - run[0][0] >= AGAIN_RUN_W:
                 return max(t for _, t in run)
         else:
             run = []
+    for i, (x, _, _) in enumerate(windows):
+        rest = windows[i:]
+        if x <= AGAIN_NEAR_W and rest[-1][0] - x >= AGAIN_RUN_W and all(t > AGAIN_TURN_DEG for _, t, _ in rest):
+            return max(t for _, t, _ in rest)
     return 0.0
 
 
@@ -1253,11 +1274,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             # the arm taken for the hand is more of the finger: the silhouette lost a strip
             # along the finger (a black glove's lit top in the colours of the grey wall in
             # shadow), and the knuckle, placed by its width, is the second joint or on the
-            # finger itself (black-glove renders: 1.5 deg for 52, 0.5 for 54, sure)
+            # finger itself (black-glove renders: 1.5 deg for 52, 0.5 for 54, sure); or
+            # the finger's width near a frayed tip is too small, with the same result
             conf = 0.0
-            reasons.append(f"beyond the arm taken for the hand the silhouette turns again ({again:.0f} deg) and "
-                           "widens: that arm may be the finger's, with the knuckle further on (the finger's "
-                           "silhouette narrower than the finger, part of it in the background's colours)")
+            reasons.append(f"beyond the arm taken for the hand the silhouette turns again ({again:.0f} deg): that "
+                           "arm may be the finger's, with the knuckle further on (the finger's silhouette narrower "
+                           "than the finger, part of it in the background's colours)")
     if beyond:
         conf = 0.0
         reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "

@@ -1310,6 +1310,32 @@ def test_a_silhouette_narrower_than_the_finger_is_not_measured_on_the_finger(ang
     assert m.status != "ok" or abs(m.angle_deg - truth.angle_deg) < 1.5, (m.angle_deg, m.reason)
 
 
+def test_a_finger_too_narrow_at_a_frayed_tip_is_not_measured_at_its_second_joint():
+    # a held-out hard render (seed 10000, render 11): a glove bent 22 deg at the knuckle
+    # and 17 at the second joint against a wavy wall. The tip is frayed in the silhouette,
+    # the finger's width near it too small, and the knuckle, sought so many widths from
+    # the tip, was placed at the second joint, with the proximal phalanx as the hand's
+    # arm: 15.3 deg for 22.2, sure. Right beyond that arm the silhouette turns by the
+    # knuckle's bend, hardly wider (the knuckle's flare only).
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    img, truth = _benchmark_photo(22.233737075022077, 611882640, "hard")
+    work, f, seg = _segment(img)
+    first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
+    assert first.status == "failed" and "turns again" in first.reason, (first.angle_deg, first.reason)
+    m = measure_angle(img)
+    assert m.status != "ok" or abs(m.angle_deg - truth.angle_deg) < 2.5, (m.angle_deg, m.reason)
+
+
+def test_a_turn_beyond_the_hands_arm_that_straightens_again_is_no_knuckle(tmp_path):
+    # a held-out realistic render (seed 10000, render 76) upside down: a dark finger bent
+    # 86 deg under a cutting mat. Right beyond the arm taken for the hand the midline
+    # turns 14-24 deg over 2.5 widths (something joined along the hand), then runs on
+    # straight: not the knuckle, and the photo is measured right
+    row = _as_saved_photo(tmp_path, 85.59448390765493, 98382924, "realistic",
+                          transform=lambda im: cv2.rotate(im, cv2.ROTATE_180))
+    assert row["status"] == "ok" and abs(row["angle_deg"] - 85.59448390765493) < 1.5, row
+
+
 def test_a_black_glove_passing_for_the_platform_in_shadow_is_not_measured_as_a_strip_of_it():
     # realistic render, a black glove on a black platform: the glove's colours pass for
     # the grey platform's in shadow and are left out; what is left is a strip along the
