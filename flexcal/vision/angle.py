@@ -1279,7 +1279,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             conf = 0.0
             reasons.append(f"beyond the arm taken for the hand the silhouette turns again ({again:.0f} deg): that "
                            "arm may be the finger's, with the knuckle further on (the finger's silhouette narrower "
-                           "than the finger, part of it in the background's colours)")
+                           "than the finger, part of it in the background's colours, or its tip frayed)")
     if beyond:
         conf = 0.0
         reasons.append("the silhouette splits into two straight arms better beyond where a knuckle can be; "
