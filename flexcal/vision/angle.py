@@ -324,6 +324,7 @@ TAPER_DOUBT_DEG = 6.0    # edges further from parallel than this lower the confi
 MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the forearm's this thick is suspect
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 FINGER_WINDOW_WIDTH = (0.85, 1.45)  # the finger is this many times as wide in its window as near its tip (sure answers: 0.89-1.4)
+TYPICAL_WINDOW_WIDTH = 1.19  # ... and typically (median of seed 2026's realistic answers; 1.08-1.32)
 MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
@@ -731,7 +732,7 @@ def _measure_segmentation(work, f, seg):
         return failed(seg.reason, "contour")
     cut_off = seg.cut_off_from(seg.mask, seg.cut_off)
     sure = []
-    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
+    m = first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
         # its tip's thickness): the arms found within the range then hold the bend and
@@ -795,6 +796,8 @@ def _measure_segmentation(work, f, seg):
                               "contour")
     if m.status != "ok" and best is None and m.details.get("two_fingers"):
         m = _measure_split(work, f, seg) or m
+    if m.status != "ok" and best is None:
+        m = _with_width_from_window(work, f, seg, cut_off, first) or m
     if seg.shadow_is_finger and m.status != "ok":
         # the finger is in the colour of the wall in shadow: its silhouette may be only
         # its shaded half (the lit half in the wall's colour); only a sure answer counts
@@ -809,6 +812,31 @@ def _measure_segmentation(work, f, seg):
         m.reason = (f"the silhouette leaves the picture in {exits} places: the fingertip, or something joined to "
                     "the hand or finger, reaches the picture's edge; keep the fingertip in the frame, or give an "
                     "ROI around the hand and finger")
+    return m
+
+
+def _with_width_from_window(work, f, seg, cut_off, first):
+    """The silhouette of ``seg`` measured again with the finger's width its window gives,
+    when ``first``, its measurement, found that window too wide for the width near the
+    tip; None unless that is sure.
+
+    A tip narrower than the finger over most of its length (the nail and the lit rim
+    along the finger's top in the platform's colour, left out as a shallow notch: held
+    out 40000 realistic 26, 28 px for 38) makes the finger's width too small, and the
+    finger's window, found all the same, 1.6x as wide as that. The width is then the
+    window's with a finger's usual widening to it undone. A last resort, after the other
+    readings of the silhouette: a window placed too far towards the hand gives too large
+    a width (40000 realistic 75: 28.9 deg for 27.0, where the forearm's colours give 27.5).
+    An oval or pointed object has no straight, parallel edges and stays refused.
+    """
+    window = first.details.get("finger_window_px")
+    if window is None or window <= FINGER_WINDOW_WIDTH[1] * first.details["finger_width_px"] * f:
+        return None
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off,
+                            finger_width=window / TYPICAL_WINDOW_WIDTH)
+    if m.status != "ok":
+        return None
+    m.details.update(finger_width_from_window=True)
     return m
 
 
@@ -951,10 +979,11 @@ def _free_stretches(contour, shape):
     return starts, lengths
 
 
-def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None):
+def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None, finger_width=None):
     """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the
     input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``);
-    ``parted``: another finger's region parted from it (``_measure_split``)."""
+    ``parted``: another finger's region parted from it (``_measure_split``);
+    ``finger_width``: the finger's width (working pixels) instead of its tip's."""
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
@@ -965,6 +994,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if valid.sum() < 20:
         return failed("the silhouette is too small to measure", "contour")
     wf, tip_facing = _tip_width(width, s, facing)
+    if finger_width is not None:
+        wf = finger_width
     # A finger so thin in the picture is no calibration photo's (the benchmark's smallest
     # fingers are 2.7 % of it), while the blurred edge of a box or platform, a band a few
     # pixels wide between two surfaces, is as thin as that and can look like a straight
@@ -1207,9 +1238,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # it, too small
     window_width = fin["width"] / wf
     if not FINGER_WINDOW_WIDTH[0] <= window_width <= FINGER_WINDOW_WIDTH[1]:
-        return fail(f"the part taken for the finger is {window_width:.2f}x as wide near the knuckle as near its tip, "
-                    f"{'more' if window_width > 1 else 'less'} than a finger is: it may not be the finger (an oval "
-                    "or pointed object), or its tip is not whole; give an ROI around the hand and finger")
+        m = fail(f"the part taken for the finger is {window_width:.2f}x as wide near the knuckle as near its tip, "
+                 f"{'more' if window_width > 1 else 'less'} than a finger is: it may not be the finger (an oval "
+                 "or pointed object), or its tip is not whole; give an ROI around the hand and finger")
+        m.details.update(finger_window_px=fin["width"])
+        return m
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
     angle = _bend(d_h_in, d_f_out)

@@ -1357,3 +1357,20 @@ def test_a_black_glove_passing_for_the_platform_in_shadow_is_not_measured_as_a_s
     work, f, seg = _segment(img)
     assert not seg.shadow_left_out and not seg.shadow_is_finger
     assert segment_finger(work, shadow_as_finger=True).mask is None
+
+
+def test_a_fingertip_narrowed_by_a_notch_along_the_finger_is_measured_with_the_fingers_width():
+    # a held-out realistic render (seed 40000, render 26): light skin on a light wood
+    # platform, bent 63 deg. The nail and the lit rim along the finger's top fall in the
+    # platform's colour cluster and leave a shallow notch over most of the finger, so the
+    # width near the tip came out 28 px for 38, and the finger's window 1.6x as wide as
+    # that: refused as "not a finger". Measured again with the width the window gives.
+    from flexcal.vision.angle import _measure_silhouette, _segment
+    img, truth = _benchmark_photo(63.27245083252769, 1670733792, "realistic")
+    work, f, seg = _segment(img)
+    first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
+    assert first.status == "failed" and "as wide near the knuckle as near its tip" in first.reason, first.reason
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - truth.angle_deg) < 1.5, (m.angle_deg, m.reason)
+    assert m.details["finger_width_from_window"]
+    assert m.details["finger_width_px"] > 1.2 * first.details["finger_width_px"]
