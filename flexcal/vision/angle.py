@@ -34,22 +34,25 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
-When the measurement is not sure and a thick piece of the silhouette is in other
-colours than the forearm's (at least a quarter of a finger width when the silhouette
-forks, the part taken for the finger is as wide as the hand or the hand wider than a
-hand; half otherwise), it is measured again in only the forearm's own colours (a box or
-poster of another colour joined to the finger drops out; only a sure answer there
-counts); if that does not give an answer, it refuses rather than guess. Its confidence
-drops when an arm bends inside its window; a silhouette that leaves the picture in more
-than one place (a box joined to the hand reaches the edge too: one side of the "hand"
-may be its edge) is not measured sure, nor one that, beyond the arm taken for the hand,
-turns again and widens, or turns right beyond that arm and keeps the turn (that arm is
-the finger's: the silhouette is narrower than the finger, part of it in the
-background's colours, or its tip is frayed, and the knuckle was sought too near the tip;
-the longer search above may still find it); there is no answer from a silhouette whose
-outline crosses no colour step along one side of an arm (that side follows the shading
-on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
-tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
+When the measurement is not sure and a thick piece of the silhouette is in other colours
+than the forearm's (at least a quarter of a finger width when the silhouette forks, the
+part taken for the finger is as wide as the hand or the hand wider than a hand; half
+otherwise), it is measured again in only the forearm's own colours (a box or poster of
+another colour joined to the finger drops out; only a sure answer there counts); when
+nothing in that segmentation is sure and the finger's window was too wide for the width
+near its tip (a notch along the finger's top), it is measured once more with the width
+the window gives (``_with_width_from_window``, only a sure answer counts); if that does
+not give an answer, it refuses rather than guess. Its confidence drops when an arm bends
+inside its window; a silhouette that leaves the picture in more than one place (a box
+joined to the hand reaches the edge too: one side of the "hand" may be its edge) is not
+measured sure, nor one that, beyond the arm taken for the hand, turns again and widens,
+or turns right beyond that arm and keeps the turn (that arm is the finger's: the
+silhouette is narrower than the finger, part of it in the background's colours, or its
+tip is frayed, and the knuckle was sought too near the tip; the longer search above may
+still find it); there is no answer from a silhouette whose outline crosses no colour
+step along one side of an arm (that side follows the shading on the skin, whose lit side
+is in the background's colours: the rebuilt silhouettes are tried), nor a bend beyond
+120 deg (no knuckle bends so far). An unsure photo is
 segmented again in finer colours (nine clusters, not six: posters on the wall use
 clusters up); a sure answer on that silhouette counts when it mostly agrees with the
 first (intersection over union at least 0.85) or holds it and the rest of the finger
