@@ -350,6 +350,7 @@ SPLIT_OUTER_MIN_DEG = 10.0  # (a nearly straight finger's outer side is no side)
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
+RIMS_AT_MOST = 2.0       # ... and the first at most this many times as wide there (rims, not an object across the finger)
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
@@ -652,7 +653,10 @@ def _measure_contour(bgr, segmented=None):
         m, disagree = _with_shadow_colours(work, f, m)
         if disagree:
             return m
-    if m.status == "ok" or seg.shadow_is_finger:
+    # (a part bridged from a squat stub, ``seg.from_stub``, is a weaker guess than a part
+    # that was finger-like: unsure, it is no first guess, as when no part was found)
+    first_guess = seg.mask is not None and not seg.from_stub
+    if m.status == "ok" or (seg.shadow_is_finger and first_guess):
         return m
     # How many colours the picture holds is a guess (six clusters); with a cluttered
     # wall, skin can share one with a poster, or the finger's lit rim one with the wall.
@@ -677,7 +681,7 @@ def _measure_contour(bgr, segmented=None):
     finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
         return m
-    if seg.mask is not None:
+    if first_guess:
         a, b = seg.mask > 0, finer.mask > 0
         both = np.sum(a & b)
         no_finger, rest = m.details.get("no_finger"), m.details.get("cut_short")
@@ -847,14 +851,20 @@ def _rims_lost(mask, wf_mask, m, f) -> bool:
     """Whether the silhouette ``mask`` (working pixels), whose finger is ``wf_mask`` wide
     near its tip (input pixels), is a finger's across the window of the finger that ``m``
     measured on a silhouette rebuilt from it (at most ``FINGER_WINDOW_WIDTH[1]`` times
-    ``wf_mask`` across), and reaches past both edges of the rebuilt one there by
-    ``RIMS_LOST`` of its width or more (medians over the window).
+    ``wf_mask`` across, and ``RIMS_AT_MOST`` times the rebuilt one's width), and reaches
+    past both edges of the rebuilt one there by ``RIMS_LOST`` of its width or more
+    (medians over the window).
 
     Fewer colours can cut an object off the finger's silhouette on one side, or beyond
     its tip; cutting into it on both sides they left out the skin's shaded (or lit)
     rims. The narrower core then sets a finger width too small, and the knuckle, sought
     so many widths from the tip, is placed on the straight finger itself (drawn fingers,
-    ``flexcal.synthetic.drawn``: sure answers of 1 deg for bends of 53 and 65 deg)."""
+    ``flexcal.synthetic.drawn``: sure answers of 1 deg for bends of 53 and 65 deg).
+    Rims are a fraction of the finger's width; a first silhouette three times as wide
+    there holds an object across the finger, and only the near tip's width it set made
+    that look like a finger's (an oval poster joined at the second joint: held-out 60000
+    realistic 22, cut off by the forearm's colours, sure and right; lost rims on seeds
+    2026 and 5000 were 1.26-1.3 times as wide)."""
     width = m.details["finger_window_width"] * m.details["finger_width_px"] * f
     d = m.distal.direction
     n = np.array([-d[1], d[0]])
@@ -869,7 +879,8 @@ def _rims_lost(mask, wf_mask, m, f) -> bool:
             reach.append(t[np.argmin(inside)] if not inside.all() else t[-1])
         margins.append(min(reach) - width / 2)
         chords.append(sum(reach))
-    return (float(np.median(chords)) <= FINGER_WINDOW_WIDTH[1] * wf_mask * f
+    chord = float(np.median(chords))
+    return (chord <= FINGER_WINDOW_WIDTH[1] * wf_mask * f and chord <= RIMS_AT_MOST * width
             and float(np.median(margins)) >= RIMS_LOST * width)
 
 
