@@ -35,7 +35,7 @@ _CHROMA_SCALE = 300.0
 _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
-_BRIDGED_STUB = 2.0          # a squat piece on the border bridged into a finger-like one at least this many times its size
+_BRIDGED_STUB = 2.0         # a squat piece on the border bridged into a finger-like one at least this many times its size
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
 _INTERLEAVED = 0.5          # ... or when more than this share of each one's pixels lie next to the other's (a print)
 _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: surely the arm's (3 sigma)
@@ -256,11 +256,6 @@ def _pick(fg, border):
     return best, comp, candidates
 
 
-def _holds(region, piece) -> bool:
-    """Whether the boolean image ``region`` holds every pixel of the 0/1 image ``piece``."""
-    return bool(region[piece > 0].all())
-
-
 def _free_end(part, border):
     """The (row, col) of the part farthest from where it leaves the picture, along the part.
 
@@ -478,13 +473,14 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
         bridged[b] = close_ellipse(fg[b], d)
         best2, comp2, candidates2 = _pick(bridged, border_full)
         from_stub = best is None and best2 is not None
-        if from_stub and not (_holds(comp2 == best2, part)
+        if from_stub and not ((comp2[part > 0] == best2).all()     # (holds the stub)
                               and np.count_nonzero(comp2 == best2) >= _BRIDGED_STUB * part.sum()):
             best2, from_stub = None, False
+        if from_stub:
+            # in the colours of the last foreground tried: with the colours like the
+            # wall's in shadow, when there are any
+            shadow_is_finger = bool(shadow.any())
         if best2 is not None:
-            # (found only bridged: in the colours of the last foreground tried, with the
-            # colours like the wall's in shadow when there are any)
-            shadow_is_finger = shadow_is_finger or (best is None and bool(shadow.any()))
             best, comp, candidates = best2, comp2, candidates2
     if not shadow_is_finger:
         background = background | shadow
