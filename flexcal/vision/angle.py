@@ -59,7 +59,8 @@ first (intersection over union at least 0.85) or holds it and the rest of the fi
 that the first was cut short of (step 2: the finer colours joined them across the band),
 or when the first was no hand and finger: joined to something (the finer colours may
 part it off), a strip too thin for a finger (then only a finer silhouette mostly
-elsewhere), or no part at all.
+elsewhere), or no part at all (or only the largest piece on the picture's edge, bridged
+because nothing was finger-like: ``Segmentation.from_stub``).
 When colours like the wall's in shadow were left out of the silhouette, the silhouette
 with them is measured as well (a black glove's colours can pass for a grey wall's or
 platform's in shadow, leaving a strip of the glove): both sure and disagreeing, neither
@@ -653,8 +654,7 @@ def _measure_contour(bgr, segmented=None):
         m, disagree = _with_shadow_colours(work, f, m)
         if disagree:
             return m
-    # (a part bridged from a squat stub, ``seg.from_stub``, is a weaker guess than a part
-    # that was finger-like: unsure, it is no first guess, as when no part was found)
+    # (a part bridged from a squat stub is no first guess: see below)
     first_guess = seg.mask is not None and not seg.from_stub
     if m.status == "ok" or (seg.shadow_is_finger and first_guess):
         return m
@@ -677,7 +677,10 @@ def _measure_contour(bgr, segmented=None):
     # agrees with it too (the band joined them: 5000 realistic 71 and 48 on k-means
     # draws 1 and 6, 0.64 and 0.22 of the union).
     # When the first found no part at all, a sure answer on the finer one counts (a
-    # sleeve of a poster's colour becomes a part of its own: 5000 hard 52).
+    # sleeve of a poster's colour becomes a part of its own: 5000 hard 52); so it does
+    # when the first part was only bridged from the largest piece on the picture's edge
+    # (``seg.from_stub``: nothing was finger-like), a weaker guess than a part that was
+    # (2026 hard 60 on k-means draw 1: the stub's part unsure, the finer colours right).
     finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
         return m
