@@ -83,6 +83,8 @@ them when they lie on the silhouette and are stickers, not specks.
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
@@ -110,8 +112,8 @@ MIN_CONFIDENCE = 0.3
 
 def _principal_direction(sxx, syy, sxy):
     """Unit direction of the larger principal axis of a 2x2 scatter matrix."""
-    theta = 0.5 * np.arctan2(2.0 * sxy, sxx - syy)
-    return np.array([np.cos(theta), np.sin(theta)])
+    theta = 0.5 * math.atan2(2.0 * sxy, sxx - syy)      # (math, not numpy: scalars, thousands a photo)
+    return np.array([math.cos(theta), math.sin(theta)])
 
 
 def _fit_line(pts, weights=None):
@@ -286,8 +288,8 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
         sxx = w @ (p[:, 0] ** 2) / n - c[:, 0] ** 2
         syy = w @ (p[:, 1] ** 2) / n - c[:, 1] ** 2
         sxy = w @ (p[:, 0] * p[:, 1]) / n - c[:, 0] * c[:, 1]
-        dx, dy = _principal_direction(sxx, syy, sxy)
-        nx, ny = -dy, dx
+        theta = 0.5 * np.arctan2(2.0 * sxy, sxx - syy)      # (_principal_direction of each)
+        nx, ny = -np.sin(theta), np.cos(theta)
         r = (p[None, :, 0] - c[:, None, 0]) * nx[:, None] + (p[None, :, 1] - c[:, None, 1]) * ny[:, None]
         return r * r
 

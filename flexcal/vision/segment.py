@@ -110,7 +110,8 @@ def colour_features(bgr):
     for c in (0, 1):                          # g and r shares
         np.divide(f[:, c + 1], total, out=out[:, c])
         out[:, c] *= _CHROMA_SCALE
-    np.log(total / 3.0, out=out[:, 2])
+    # (into a contiguous array first: numpy's log into a strided column is 6x slower)
+    out[:, 2] = np.log(total / 3.0)
     out[:, 2] *= _LIGHT_SCALE
     return out
 
