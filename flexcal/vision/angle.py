@@ -1022,7 +1022,9 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # hand (renders, on other draws of the colour clusters: bands 1.2-1.4 % wide measured
     # 46-68 deg off; an oval poster 1.8 %, 13 deg off), and so can a strip of the sensor
     # or its lead, a thin poster or a strip along the finger's edge, 2.0-2.4 % wide
-    # (held-out hard renders, seeds 60000 and 70000: six answers, sure and 9-83 deg off).
+    # (held-out hard renders, seeds 60000 and 70000: six answers, sure and 9-83 deg off;
+    # strips that ran along the whole finger were right, and are refused too: the demo's
+    # trial 5 at 20 deg, 2.3 %, a strip of a black glove, and seed 5000 drawn 2, 2.2 %).
     # (As a share of the picture's long side, the same for the photo and a reduced copy;
     # a photo larger than the working resolution has no more to give.)
     long_side = max(work.shape[:2])
