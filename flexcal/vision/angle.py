@@ -1032,8 +1032,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if wf < min_wf:
         larger = " or use a larger photo" if min_wf == MIN_FINGER_PX and long_side < WORK_SIZE else ""
         m = failed(f"the part taken for the finger is too thin ({wf / long_side:.1%} of the picture's long side, "
-                   f"under {min_wf / long_side:.1%}): a finger that small in the photo, or a thin edge or strip "
-                   f"taken for it; frame the finger closer{larger}, against a background of another colour", "contour")
+                   f"under {min_wf / long_side:.1%}): a strip taken for the finger (its shaded side, the rest "
+                   f"of it in the background's colours; the sensor's lead; a box's edge), or a finger that small "
+                   f"in the photo; photograph against a background of another colour, or frame the finger "
+                   f"closer{larger}", "contour")
         m.details.update(no_finger="thin")
         return m
 
