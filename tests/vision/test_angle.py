@@ -853,11 +853,14 @@ def test_a_finger_too_thin_to_measure_says_how_thin_for_any_photo_size():
     assert "too thin (" in m.reason and "under 3.3%" in m.reason and "larger photo" in m.reason, m.reason
 
 
-def _benchmark_photo(angle, rng, difficulty, **params):
-    """The benchmark's photo: a 1280x960 render (``params`` override its nuisances)
-    saved as JPEG q90 and read at half size, as `flexcal measure` reads it; and its truth."""
+def _benchmark_photo(angle, rng, difficulty, transform=None, **params):
+    """The benchmark's photo: a 1280x960 render (``params`` override its nuisances;
+    ``transform``, image -> image, turns or mirrors it as the benchmark does) saved as
+    JPEG q90 and read at half size, as `flexcal measure` reads it; and its truth."""
     img, truth = render_finger(angle, shape=(960, 1280), rng=rng, difficulty=difficulty, jpeg_quality=None,
                                **params)
+    if transform is not None:
+        img = np.ascontiguousarray(transform(img))
     _, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, 90])
     return cv2.imdecode(buf, cv2.IMREAD_REDUCED_COLOR_2), truth
 
@@ -1410,10 +1413,8 @@ def test_an_oval_poster_across_the_second_joint_is_cut_off_not_taken_for_the_fin
     # (the first silhouette past both of its edges): refused as a second joint. The first
     # silhouette there is three times as wide as the finger: an object, not rims.
     from flexcal.vision.angle import _measure_silhouette, _segment
-    img, truth = render_finger(16.583306262938954, shape=(960, 1280), rng=1569388337, difficulty="realistic",
-                               jpeg_quality=None)
-    _, buf = cv2.imencode(".jpg", cv2.rotate(img, cv2.ROTATE_90_CLOCKWISE), [cv2.IMWRITE_JPEG_QUALITY, 90])
-    img = cv2.imdecode(buf, cv2.IMREAD_REDUCED_COLOR_2)     # (turned as the benchmark turns it)
+    img, truth = _benchmark_photo(16.583306262938954, 1569388337, "realistic",
+                                  transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE))
     work, f, seg = _segment(img)
     first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=seg.cut_off)
     assert first.status == "failed" and first.details["finger_width_px"] > 2.5 * 27, first.details
