@@ -65,6 +65,8 @@ When colours like the wall's in shadow were left out of the silhouette, the silh
 with them is measured as well (a black glove's colours can pass for a grey wall's or
 platform's in shadow, leaving a strip of the glove): both sure and disagreeing, neither
 is taken; only the one with them sure, it is (``_with_shadow_colours``).
+An unsure answer that another silhouette of the photo contradicts (sure or not; more
+than three times their combined uncertainty apart) is refused: it is a guess between them.
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
@@ -650,10 +652,24 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 
 
 def _measure_contour(bgr, segmented=None):
+    readings = []
+    m = _measure_segmentations(bgr, segmented, readings)
+    # An unsure answer that another reading of the photo contradicts (another silhouette
+    # of it, sure or not) is a guess between them: refused (held-out 80000 realistic 90
+    # turned by 90 deg: 16.3 deg for 6.5 at low contrast, where the forearm's colours and
+    # finer ones give 5.4-7.6; 50000 hard 28 upside down: 81.6 for 89.7, where a finer
+    # silhouette that lost its rims gives 92.2, sure)
+    other = _disagreeing(m, [r for r in readings if r is not m]) if m.status == "low_confidence" else None
+    return _readings_disagree(m, other) if other is not None else m
+
+
+def _measure_segmentations(bgr, segmented, readings):
+    """``_measure_contour``'s search over the photo's segmentations; every silhouette's
+    measurement is appended to ``readings``."""
     work, f, seg = segmented if segmented is not None else _segment(bgr)
-    m = _measure_segmentation(work, f, seg)
+    m = _measure_segmentation(work, f, seg, readings)
     if seg.shadow_left_out:
-        m, disagree = _with_shadow_colours(work, f, m)
+        m, disagree = _with_shadow_colours(work, f, m, readings)
         if disagree:
             return m
     # (a part bridged from a squat stub is no first guess: see below)
@@ -698,11 +714,11 @@ def _measure_contour(bgr, segmented=None):
                          and np.sum(rest & b) >= AGREE_IOU * np.sum(rest)))
         if not agree:
             return m
-    m2 = _measure_segmentation(work, f, finer)
+    m2 = _measure_segmentation(work, f, finer, readings)
     return m2 if m2.status == "ok" else m
 
 
-def _with_shadow_colours(work, f, m):
+def _with_shadow_colours(work, f, m, readings=None):
     """The measurement ``m`` of a silhouette that left out colours like the wall's (or
     platform's) in shadow, checked against the silhouette with them (``segment_finger``'s
     ``shadow_as_finger``).
@@ -714,8 +730,10 @@ def _with_shadow_colours(work, f, m):
     are sure and disagree, neither is taken; when only the one with those colours is
     sure, it is (a shadow joined to the finger would make it unsure: a blob at its tip,
     a wider finger); otherwise ``m`` stands. Returns (the measurement, whether it is a
-    refusal because the two disagree: nothing else is to be tried then).
+    refusal because the two disagree: nothing else is to be tried then). The
+    silhouettes' measurements are appended to ``readings`` (a list), when given.
     """
+    readings = [] if readings is None else readings
     alt = segment_finger(work, seed=KMEANS_SEED, shadow_as_finger=True)
     if alt.mask is None:
         return m, False
@@ -723,7 +741,9 @@ def _with_shadow_colours(work, f, m):
     # tenth of clean photos; for an unsure one, also the rebuilt silhouettes)
     m2 = _measure_silhouette(work, f, alt.mask, alt.contrast, cut_off=alt.cut_off_from(alt.mask, alt.cut_off))
     if m2.status != "ok" and m.status != "ok":
-        m2 = _measure_segmentation(work, f, alt)
+        m2 = _measure_segmentation(work, f, alt, readings)
+    else:
+        readings.append(m2)
     if m2.status != "ok":
         return m, False
     if m.status != "ok":
@@ -736,20 +756,38 @@ def _with_shadow_colours(work, f, m):
     return m, False
 
 
-def _measure_segmentation(work, f, seg):
+def _disagreeing(m: AngleMeasurement, readings) -> AngleMeasurement | None:
+    """The first of ``readings`` whose angle is further from ``m``'s than three times
+    their combined uncertainty (failed readings, NaN, never are); None if none is."""
+    return next((o for o in readings if abs(o.angle_deg - m.angle_deg)
+                 > 3 * np.hypot(o.angle_unc_deg, m.angle_unc_deg)), None)
+
+
+def _readings_disagree(m: AngleMeasurement, other: AngleMeasurement) -> AngleMeasurement:
+    return failed(f"readings of the silhouette disagree ({m.angle_deg:.0f} and {other.angle_deg:.0f} deg): "
+                  "an object beside the hand or finger, or a bent second joint, makes the knuckle "
+                  "ambiguous; photograph with the second joint straight and nothing touching the hand",
+                  "contour")
+
+
+def _measure_segmentation(work, f, seg, readings=None):
     """Measure one segmentation of the working image: its silhouette and, when that is
     unsure, the alternatives (a slender finger's knuckle beyond the usual range, the
-    silhouette in only the forearm's colours)."""
+    silhouette in only the forearm's colours). Every silhouette's measurement is also
+    appended to ``readings`` (a list), when given."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
+    readings = [] if readings is None else readings
     cut_off = seg.cut_off_from(seg.mask, seg.cut_off)
     sure = []
     m = first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
+    readings.append(m)
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
         # its tip's thickness): the arms found within the range then hold the bend and
         # are refused. Look further; taken only when sure and found beyond the range.
         m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
+        readings.append(m2)
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]:
             m = m2
         elif m2.status == "ok":
@@ -787,6 +825,7 @@ def _measure_segmentation(work, f, seg):
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=seg.cut_off_from(alt, alt_cut_off))
+                    readings.append(m2)
                     if m2.status == "ok" and wf is not None and _rims_lost(seg.mask, wf, m2, f):
                         continue
                     if m2.status == "ok":
@@ -799,13 +838,9 @@ def _measure_segmentation(work, f, seg):
             # rebuilt silhouette that took in a piece of an object beside the knuckle
             # can place it at the second joint, sure, while the knuckle sought further
             # on the first silhouette gives another sure bend
-            other = next((o for o in sure if abs(o.angle_deg - m.angle_deg)
-                          > 3 * np.hypot(o.angle_unc_deg, m.angle_unc_deg)), None)
+            other = _disagreeing(m, sure)
             if other is not None:
-                return failed(f"readings of the silhouette disagree ({m.angle_deg:.0f} and {other.angle_deg:.0f} deg): "
-                              "an object beside the hand or finger, or a bent second joint, makes the knuckle "
-                              "ambiguous; photograph with the second joint straight and nothing touching the hand",
-                              "contour")
+                return _readings_disagree(m, other)
     if m.status != "ok" and best is None and m.details.get("two_fingers"):
         m = _measure_split(work, f, seg) or m
     if m.status != "ok" and best is None:

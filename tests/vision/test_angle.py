@@ -1092,6 +1092,28 @@ def test_sure_readings_of_one_silhouette_that_disagree_are_refused(tmp_path):
     assert row["status"] == "failed" or abs(row["angle_deg"] - 14.595159612152067) < 5, row
 
 
+@pytest.mark.parametrize("angle,rng,difficulty,turn,unsure,other", [
+    # pale skin on a beige wall (weak contrast), turned by 90 deg: the first silhouette
+    # measured 16.3 deg, unsure; the forearm's colours and the finer ones 5.4-7.6, unsure
+    (6.509000039934452, 1195282720, "realistic", cv2.ROTATE_90_CLOCKWISE, 16.3, (5.0, 8.0)),
+    # upside down: the first silhouette 81.6 deg, unsure; a finer one that lost its rims
+    # 92.2, sure (not taken: it lost its rims)
+    (89.65033768160025, 352251362, "hard", cv2.ROTATE_180, 81.6, (91.0, 93.0)),
+])
+def test_an_unsure_answer_that_another_reading_contradicts_is_refused(angle, rng, difficulty, turn, unsure, other):
+    from flexcal.vision.angle import _measure_segmentations
+    img, truth = _benchmark_photo(angle, rng, difficulty, transform=lambda im: cv2.rotate(im, turn))
+    # what the readings were: the unsure answer, and another reading far from it
+    readings = []
+    first = _measure_segmentations(img, None, readings)
+    assert first.status == "low_confidence" and abs(first.angle_deg - unsure) < 0.5, (first.angle_deg, first.reason)
+    assert abs(first.angle_deg - truth.angle_deg) > 5
+    assert any(other[0] < r.angle_deg < other[1] for r in readings if r is not first), \
+        [round(r.angle_deg, 1) for r in readings]
+    m = measure_angle(img)
+    assert m.status == "failed" and "readings of the silhouette disagree" in m.reason, (m.angle_deg, m.reason)
+
+
 @pytest.mark.parametrize("seed,angle,difficulty", [
     (0, 15.0, "clean"), (1, 60.0, "clean"), (5, 15.0, "clean"), (7, 60.0, "clean"),
     # parted, these kept frayed strands along the parting and "forked"; finished as a
