@@ -664,8 +664,8 @@ def _measure_contour(bgr, segmented=None):
 
 
 def _measure_segmentations(bgr, segmented, readings):
-    """``_measure_contour``'s search over the photo's segmentations; every silhouette's
-    measurement is appended to ``readings``."""
+    """``_measure_contour``'s search over the photo's segmentations; the silhouettes'
+    measurements are appended to ``readings`` (``_measure_segmentation``)."""
     work, f, seg = segmented if segmented is not None else _segment(bgr)
     m = _measure_segmentation(work, f, seg, readings)
     if seg.shadow_left_out:
@@ -773,8 +773,10 @@ def _readings_disagree(m: AngleMeasurement, other: AngleMeasurement) -> AngleMea
 def _measure_segmentation(work, f, seg, readings=None):
     """Measure one segmentation of the working image: its silhouette and, when that is
     unsure, the alternatives (a slender finger's knuckle beyond the usual range, the
-    silhouette in only the forearm's colours). Every silhouette's measurement is also
-    appended to ``readings`` (a list), when given."""
+    silhouette in only the forearm's colours). The measurements of the silhouette, of the
+    longer search and of the rebuilt silhouettes are also appended to ``readings`` (a
+    list), when given (those of a parted finger and of the width from the window count
+    only when sure, and are then the answer)."""
     if seg.mask is None:
         return failed(seg.reason, "contour")
     readings = [] if readings is None else readings
