@@ -31,10 +31,14 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
     lab = cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)
     ab = lab[..., 1:]
     k = int(3 * 2 * np.sqrt(MAX_DOT_AREA * h0 * w0 / np.pi)) | 1
-    # (in 8 bit and integers: a float colour image costs several times as much)
-    diff = cv2.subtract(lab, cv2.blur(lab, (k, k), borderType=cv2.BORDER_REFLECT), dtype=cv2.CV_16S).astype(np.int32)
-    stands_out = diff[..., 1] ** 2 + diff[..., 2] ** 2 >= DOT_STANDS_OUT ** 2
-    sat = ((hsv[..., 1] >= min_saturation) & (hsv[..., 2] >= 60) & stands_out).astype(np.uint8)
+    # (a* and b* only, in 8 bit and integers, with OpenCV's own operations: a float
+    # colour image, or numpy's, costs several times as much)
+    squares = []
+    for c in cv2.split(lab)[1:]:
+        d = cv2.absdiff(c, cv2.blur(c, (k, k), borderType=cv2.BORDER_REFLECT))
+        squares.append(cv2.multiply(d, d, dtype=cv2.CV_32S))
+    stands_out = cv2.compare(cv2.add(*squares), DOT_STANDS_OUT ** 2, cv2.CMP_GE)
+    sat = cv2.bitwise_and(cv2.inRange(hsv, (0, min_saturation, 60), (255, 255, 255)), stands_out)
     # JPEG's colour noise in dark skin next to a dot stands out too: specks off
     sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
     _, comp, stats, _ = cv2.connectedComponentsWithStats(sat, connectivity=8)
