@@ -24,7 +24,10 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``), or at the outline where
    only that runs straight (a dark rim, shaded as a round finger's, passes for a layer
-   at some points and not at others); on the finger, each edge
+   at some points and not at others); a tape band across the finger is left out, by
+   its colour (``edges.py``) or, in nearly the glove's colour, by its outline
+   (``_bands``: wider than just before and after it, the midline straight through);
+   on the finger, each edge
    line is the longest straight stretch of edge between 1 and 2.75 widths from the
    knuckle (a robust line through all of it, refitted to the points that lie on it:
    the finger flares towards the knuckle and may bend again at the next joint, so a
@@ -89,11 +92,11 @@ import math
 
 import cv2
 import numpy as np
-from scipy.ndimage import gaussian_filter1d
+from scipy.ndimage import gaussian_filter1d, median_filter
 from scipy.spatial import cKDTree
 from skimage.morphology import skeletonize
 
-from flexcal.vision.edges import colour_steps, cut_contrast, inward_normals, skin_edge
+from flexcal.vision.edges import BAND_MARGIN, colour_steps, cut_contrast, inward_normals, skin_edge
 from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
@@ -151,6 +154,45 @@ def _robust_line(pts, iters=4):
             break
         c, d, r = _fit_line(pts, w)
     return c, d, r, w
+
+
+def _bands(mid, s, width, wf):
+    """Where a band (tape holding the sensor) crosses the silhouette: (from, to) arclengths,
+    the band's own edges included.
+
+    A band stands off the finger on both sides alike, over a stretch as long as the band
+    is wide: the silhouette is wider there than just before and after it, and its
+    midline runs straight through. ``skin_edge`` drops a band by its colour; one of
+    nearly the glove's colour (white tape on a latex glove) it takes for the glove, and
+    the outline over the band, standing off both edges, pulls the edges' lines and
+    leaves a third of their points off them ("not straight").
+    """
+    if len(s) < 16:
+        return []
+    grid = np.arange(s[0], s[-1], 1.0)
+    w = np.interp(grid, s, width)
+    base = median_filter(w, size=max(3, int(BAND_BASE_W * wf)) | 1, mode="nearest")
+    wide = np.concatenate([[False], w - base > BAND_MIN_W * wf, [False]])
+    starts = np.flatnonzero(~wide[:-1] & wide[1:])
+    ends = np.flatnonzero(wide[:-1] & ~wide[1:])
+    margin, flank = BAND_MARGIN * wf, BAND_FLANK_W * wf
+    bands = []
+    for a, b in zip(starts, ends):
+        lo, hi = grid[a] - margin, grid[b - 1] + margin
+        if not BAND_LEN_W[0] * wf <= b - a <= BAND_LEN_W[1] * wf:
+            continue
+        before, after = (s >= lo - flank) & (s < lo), (s > hi) & (s <= hi + flank)
+        on = (s >= lo) & (s <= hi)
+        if before.sum() < 8 or after.sum() < 8:
+            continue
+        # the midline straight through: something joined to one side (another finger, the
+        # knuckle's outer corner) moves it by half its height or more (0.19-0.53 widths on
+        # renders, against 0.01-0.05 over a band)
+        c, d, _ = _fit_line(mid[before | after])
+        if abs(_median((mid[on] - c) @ np.array([-d[1], d[0]]))) > BAND_MIDLINE_W * wf:
+            continue
+        bands.append((lo, hi))
+    return bands
 
 
 def _consensus_line(pts, tol, iters=3):
@@ -356,6 +398,11 @@ UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting 
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
 RIMS_AT_MOST = 2.0       # ... and the first at most this many times as wide there (rims, not an object across the finger)
+BAND_BASE_W = 1.5        # a band is found where the silhouette is wider than its median over this many finger widths
+BAND_MIN_W = 0.08        # ... by this many finger widths (the renders' tape bands: 0.09-0.12)
+BAND_LEN_W = (0.15, 0.8)  # ... over this many finger widths (tape 8 mm wide, 0.5)
+BAND_FLANK_W = 0.5       # ... with the midline over this many widths before and after it running straight
+BAND_MIDLINE_W = 0.05    # ... through it, within this many finger widths
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
@@ -1173,11 +1220,21 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                   max(bk + w[1] * wf for bk, w in zip(shifted, hand_windows)))}
     sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
+    # (the silhouette widens at the knuckle's bend too: that is no band)
+    bands = [(lo_b, hi_b) for lo_b, hi_b in _bands(mid[facing], s[facing], width[facing], wf)
+             if not lo_b <= b <= hi_b]
     for sign, (lo_s, hi_s) in reach.items():
         for k, (side, near, normals) in enumerate(sides):
             m = (s[near] >= lo_s) & (s[near] <= hi_s)
             pts, keep = skin_edge(work, side[m], normals[m], wf)
-            skin[sign, k] = (s[near][m][keep], pts[keep], side[m][keep])
+            sn = s[near][m]
+            for lo_b, hi_b in bands:
+                # the band's outline is no edge of the skin (where skin_edge dropped any of
+                # it, the band's colour told it from the skin's, and it dropped the band)
+                on_band = (sn >= lo_b) & (sn <= hi_b)
+                if keep[on_band].all():
+                    keep &= ~on_band
+            skin[sign, k] = (sn[keep], pts[keep], side[m][keep])
 
     def edge_line(pts, finger):
         # a finger's edge: started (robustly) from all the edge in the window, not from
