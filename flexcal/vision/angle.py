@@ -41,21 +41,22 @@ When the measurement is not sure and a thick piece of the silhouette is in other
 than the forearm's (at least a quarter of a finger width when the silhouette forks, the
 part taken for the finger is as wide as the hand or the hand wider than a hand; half
 otherwise), it is measured again in only the forearm's own colours (a box or poster of
-another colour joined to the finger drops out; only a sure answer there counts); when
-nothing in that segmentation is sure and the finger's window was too wide for the width
-near its tip (a notch along the finger's top), it is measured once more with the width
-the window gives (``_with_width_from_window``, only a sure answer counts); if that does
-not give an answer, it refuses rather than guess. Its confidence drops when an arm bends
-inside its window; a silhouette that leaves the picture in more than one place (a box
-joined to the hand reaches the edge too: one side of the "hand" may be its edge) is not
-measured sure, nor one that, beyond the arm taken for the hand, turns again and widens,
-or turns right beyond that arm and keeps the turn (that arm is the finger's: the
-silhouette is narrower than the finger, part of it in the background's colours, or its
-tip is frayed, and the knuckle was sought too near the tip; the longer search above may
-still find it); there is no answer from a silhouette whose outline crosses no colour
-step along one side of an arm (that side follows the shading on the skin, whose lit side
-is in the background's colours: the rebuilt silhouettes are tried), nor a bend beyond
-120 deg (no knuckle bends so far). An unsure photo is
+another colour joined to the finger drops out; only a sure answer there counts; when
+those colours also cut off the finger's rims, with the first silhouette's finger width:
+``_rims_lost``); when nothing in that segmentation is sure and the finger's window was
+too wide for the width near its tip (a notch along the finger's top), it is measured
+once more with the width the window gives (``_with_width_from_window``, only a sure
+answer counts); if that does not give an answer, it refuses rather than guess. Its
+confidence drops when an arm bends inside its window; a silhouette that leaves the
+picture in more than one place (a box joined to the hand reaches the edge too: one side
+of the "hand" may be its edge) is not measured sure, nor one that, beyond the arm taken
+for the hand, turns again and widens, or turns right beyond that arm and keeps the turn
+(that arm is the finger's: the silhouette is narrower than the finger, part of it in the
+background's colours, or its tip is frayed, and the knuckle was sought too near the tip;
+the longer search above may still find it); there is no answer from a silhouette whose
+outline crosses no colour step along one side of an arm (that side follows the shading
+on the skin, whose lit side is in the background's colours: the rebuilt silhouettes are
+tried), nor a bend beyond 120 deg (no knuckle bends so far). An unsure photo is
 segmented again in finer colours (nine clusters, not six: posters on the wall use
 clusters up); a sure answer on that silhouette counts when it mostly agrees with the
 first (intersection over union at least 0.85) or holds it and the rest of the finger
@@ -63,13 +64,13 @@ that the first was cut short of (step 2: the finer colours joined them across th
 or when the first was no hand and finger: joined to something (the finer colours may
 part it off), a strip too thin for a finger (then only a finer silhouette mostly
 elsewhere), or no part at all (or only the largest piece on the picture's edge, bridged
-because nothing was finger-like: ``Segmentation.from_stub``).
-When colours like the wall's in shadow were left out of the silhouette, the silhouette
-with them is measured as well (a black glove's colours can pass for a grey wall's or
-platform's in shadow, leaving a strip of the glove): both sure and disagreeing, neither
-is taken; only the one with them sure, it is (``_with_shadow_colours``).
-An unsure answer that another silhouette of the photo contradicts (sure or not; more
-than three times their combined uncertainty apart) is refused: it is a guess between them.
+because nothing was finger-like: ``Segmentation.from_stub``). When colours like the
+wall's in shadow were left out of the silhouette, the silhouette with them is measured
+as well (a black glove's colours can pass for a grey wall's or platform's in shadow,
+leaving a strip of the glove): both sure and disagreeing, neither is taken; only the one
+with them sure, it is (``_with_shadow_colours``). An unsure answer that another
+silhouette of the photo contradicts (sure or not; more than three times their combined
+uncertainty apart) is refused: it is a guess between them.
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
@@ -873,10 +874,20 @@ def _measure_segmentation(work, f, seg, readings=None):
                     step = cut_contrast(work, seg.mask, alt)
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
-                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=seg.cut_off_from(alt, alt_cut_off))
+                    alt_cut = seg.cut_off_from(alt, alt_cut_off)
+                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut)
                     readings.append(m2)
                     if m2.status == "ok" and wf is not None and _rims_lost(seg.mask, wf, m2, f):
-                        continue
+                        # the rebuilt finger's core set the width, too small: measured again
+                        # with the first silhouette's, rims and all (the knuckle is then
+                        # sought where the whole finger puts it, and every check of the
+                        # finger's and hand's widths made against it; held-out 40000
+                        # realistic 59 upside down and mirrored, the sensor's strip along
+                        # the hand's side joined: refused, now 75.1 deg for 74.9)
+                        m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut, finger_width=wf * f)
+                        readings.append(m2)
+                        if m2.status != "ok":
+                            continue
                     if m2.status == "ok":
                         sure.append(m2)
                         if alt.sum() > best_area:
@@ -953,7 +964,8 @@ def _rims_lost(mask, wf_mask, m, f) -> bool:
     there holds an object across the finger, and only the near tip's width it set made
     that look like a finger's (an oval poster joined at the second joint: held-out 60000
     realistic 22, cut off by the forearm's colours, sure and right; lost rims on seeds
-    2026 and 5000 were 1.26-1.3 times as wide)."""
+    2026 and 5000 were 1.26-1.3 times as wide). A silhouette that lost its rims is
+    measured again with the first one's finger width (``_measure_segmentation``)."""
     width = m.details["finger_window_width"] * m.details["finger_width_px"] * f
     d = m.distal.direction
     n = np.array([-d[1], d[0]])

@@ -1290,6 +1290,20 @@ def test_a_silhouette_rebuilt_without_the_fingers_rims_does_not_set_the_knuckle(
     assert not m or abs(m.angle_deg - a) < 2.0, (m.angle_deg, m.reason)
 
 
+@pytest.mark.parametrize("turn", [lambda im: cv2.rotate(im, cv2.ROTATE_180), lambda im: im[:, ::-1]],
+                         ids=["upside down", "mirrored"])
+def test_a_rebuilt_finger_that_lost_its_rims_is_measured_with_the_first_silhouettes_width(turn):
+    # held-out 40000 realistic 59: the sensor's strip along the hand's side joins the
+    # first silhouette ("as wide as the hand"); the forearm's colours part it off but cut
+    # off the finger's rims too, and their sure answer (75.0 deg) was dropped, as the
+    # core's width could have put the knuckle on the finger. Measured with the first
+    # silhouette's width, rims and all, it is sure and right
+    a = 74.94892302716946
+    img, _ = _benchmark_photo(a, 1574722115, "realistic", transform=turn)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - a) < 1.0, (m.angle_deg, m.reason)
+
+
 @pytest.mark.parametrize("left, right, lost", [(5, 3, True), (3, 3, True), (0, 8, False), (1, 0, False),
                                                 (15, 15, False)])
 def test_a_rebuilt_finger_narrower_on_both_sides_lost_its_rims(left, right, lost):
