@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from flexcal import __version__
@@ -319,7 +320,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# The commands measure photos in a process per core (``measure.measure_files``): OpenCV
+# and numpy's BLAS (OpenBLAS) would start a thread pool in every one of them, and the
+# pools contend for the same cores (two processes on two cores, 120 benchmark photos:
+# 11-13 photos/s with the pools, 14-20 without; the same answers; one process alone is
+# as fast either way). The libraries read these when first loaded, which the commands
+# do lazily, after this; a number the user chose is kept.
+SINGLE_THREADED = ("OPENCV_FOR_THREADS_NUM", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
 def main(argv=None) -> int:
+    for var in SINGLE_THREADED:
+        os.environ.setdefault(var, "1")
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

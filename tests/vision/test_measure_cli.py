@@ -1,3 +1,7 @@
+import os
+import subprocess
+import sys
+
 import cv2
 import pandas as pd
 
@@ -32,6 +36,33 @@ def test_measure_folder_with_bad_files_keeps_every_row(tmp_path, capsys):
     assert ((good["angle_deg"] - pd.Series([10.0, 45.0, 80.0], index=good.index)).abs() < 2).all()
     assert (tmp_path / "ov" / "contact_sheet.png").exists()
     assert len(list((tmp_path / "ov").glob("*_overlay.jpg"))) == 5   # one per readable photo
+
+
+def test_a_parallel_batch_gives_the_rows_of_one_process(tmp_path):
+    from flexcal.measure import measure_files
+
+    paths = []
+    for i, a in enumerate((5.0, 30.0, 55.0, 80.0, 20.0)):
+        img, _ = render_finger(a, shape=(480, 640), rng=100 + i, difficulty="realistic")
+        paths.append(tmp_path / f"p{i}.jpg")
+        cv2.imwrite(str(paths[-1]), img)
+    serial = measure_files(paths, jobs=1, progress=False)
+    assert serial["angle_deg"].notna().sum() >= 4
+    pd.testing.assert_frame_equal(serial, measure_files(paths, jobs=2, progress=False))
+
+
+def test_the_commands_run_opencv_and_the_blas_in_one_thread_per_process(tmp_path):
+    # a batch runs a process per core: a thread pool in each would only contend for them.
+    # In a fresh process, as the command runs (the libraries read it when first loaded)
+    img, _ = render_finger(30.0, shape=(480, 640), rng=1, difficulty="clean")
+    cv2.imwrite(str(tmp_path / "p.jpg"), img)
+    code = ("import os, sys; from flexcal.cli import main; assert main(sys.argv[1:]) == 0; import cv2; "
+            "print(cv2.getNumThreads(), os.environ['OPENBLAS_NUM_THREADS'])")
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENCV_FOR_THREADS_NUM", "OPENBLAS_NUM_THREADS")}
+    out = subprocess.run([sys.executable, "-c", code, "measure", str(tmp_path / "p.jpg"), "--out",
+                          str(tmp_path / "a.csv"), "--jobs", "1"], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.splitlines()[-1].split() == ["1", "1"], out.stdout
+    assert len(pd.read_csv(tmp_path / "a.csv")) == 1
 
 
 def test_measure_missing_path_is_a_one_line_error(tmp_path, capsys):
