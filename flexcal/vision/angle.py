@@ -1163,8 +1163,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
-        # (or the "finger" is a poster joined at the fingertip: its width is no finger's)
-        return fail("too little of the hand is in the picture to measure its direction", foreign=True,
+        # (or the "finger" is a poster joined at the fingertip: its width is no finger's;
+        # on held-out hard photos such "fingers" were up to a quarter of the picture wide)
+        return fail(f"too little of the hand is in the picture to measure its direction (the part taken for "
+                    f"the finger is {total / wf:.1f} of its widths long and {wf / long_side:.0%} of the "
+                    f"picture's long side wide: frame the whole finger and some of the hand, or, if the finger "
+                    f"is narrower than that, move what is joined to its tip)", foreign=True,
                     width_known=False, joined=True)
     # Breakpoint search over a fixed stretch of midline, from beyond the next joint
     # (SPAN[0] widths from the tip) to the flat of the hand: a knuckle placed wrongly

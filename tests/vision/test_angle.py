@@ -1,3 +1,4 @@
+import re
 from pathlib import Path
 
 import cv2
@@ -1302,6 +1303,18 @@ def test_a_rebuilt_finger_that_lost_its_rims_is_measured_with_the_first_silhouet
     img, _ = _benchmark_photo(a, 1574722115, "realistic", transform=turn)
     m = measure_angle(img)
     assert m.status == "ok" and abs(m.angle_deg - a) < 1.0, (m.angle_deg, m.reason)
+
+
+def test_too_little_hand_says_how_long_and_wide_the_part_taken_for_the_finger_is():
+    # held-out 100000 hard 88: a poster and a cutting mat joined at the fingertip make the
+    # "finger" a fifth of the picture wide; the reason says so, and what to do either way
+    a = 26.117997276899857
+    img, _ = _benchmark_photo(a, 851772258, "hard")
+    m = measure_angle(img)
+    assert m.status == "failed" and m.reason.startswith("too little of the hand is in the picture"), m.reason
+    found = re.search(r"is ([0-9.]+) of its widths long and ([0-9]+)% of the picture's long side wide", m.reason)
+    assert found and float(found.group(1)) < 8 and int(found.group(2)) >= 15, m.reason
+    assert "frame the whole finger" in m.reason and "move what is joined to its tip" in m.reason
 
 
 @pytest.mark.parametrize("left, right, lost", [(5, 3, True), (3, 3, True), (0, 8, False), (1, 0, False),
