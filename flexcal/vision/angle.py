@@ -1164,7 +1164,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
         # (or the "finger" is a poster joined at the fingertip: its width is no finger's;
-        # on held-out hard photos such "fingers" were up to a quarter of the picture wide)
+        # on held-out hard photos such "fingers" were a fifth to two fifths of the picture wide)
         return fail(f"too little of the hand is in the picture to measure its direction (the part taken for "
                     f"the finger is {total / wf:.1f} of its widths long and {wf / long_side:.0%} of the "
                     f"picture's long side wide: frame the whole finger and some of the hand, or, if the finger "

@@ -5,7 +5,7 @@ import sys
 import cv2
 import pandas as pd
 
-from flexcal.cli import main
+from flexcal.cli import SINGLE_THREADED, main
 from flexcal.measure import ANGLE_COLUMNS
 from flexcal.synthetic import render_finger
 
@@ -58,7 +58,7 @@ def test_the_commands_run_opencv_and_the_blas_in_one_thread_per_process(tmp_path
     cv2.imwrite(str(tmp_path / "p.jpg"), img)
     code = ("import os, sys; from flexcal.cli import main; assert main(sys.argv[1:]) == 0; import cv2; "
             "print(cv2.getNumThreads(), os.environ['OPENBLAS_NUM_THREADS'])")
-    env = {k: v for k, v in os.environ.items() if k not in ("OPENCV_FOR_THREADS_NUM", "OPENBLAS_NUM_THREADS")}
+    env = {k: v for k, v in os.environ.items() if k not in SINGLE_THREADED}
     out = subprocess.run([sys.executable, "-c", code, "measure", str(tmp_path / "p.jpg"), "--out",
                           str(tmp_path / "a.csv"), "--jobs", "1"], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.splitlines()[-1].split() == ["1", "1"], out.stdout
