@@ -979,9 +979,10 @@ def _measure_split(work, f, seg, fork_width=None):
     so a reading counts only without doubts (and, as any reading, with the finger about
     as wide in its window as near its tip: a parting that frays the tip makes the
     finger's width, and every window with it, too small), and not one with the parting on
-    the bend's outer side (``_outer_side_parted``: the finger behind was kept); when both
-    partings give one, they must agree. The answer's
-    uncertainty includes the parting's (``UNC_PARTED_DEG``).
+    the bend's outer side (``_outer_side_parted``: the finger behind was kept), nor, of a
+    fork, one with most of the finger parted off outside its bend (``_share_within_bend``);
+    when both partings give one, they must agree. The answer's uncertainty includes the
+    parting's (``UNC_PARTED_DEG``).
     """
     if fork_width is None:
         chains, _ = _outline_chains(seg.mask)
