@@ -877,7 +877,8 @@ def _measure_segmentation(work, f, seg, readings=None):
     if m.status != "ok" and best is None and m.details.get("two_fingers"):
         # a fork is parted at each finger's own length first; where that gives nothing
         # (no parting kept the hand whole), as two fingers overlapping
-        split = _measure_split(work, f, seg, m.details["finger_width_px"] * f) if m.details.get("forks") else None
+        split = (_measure_split(work, f, seg, (m.details["finger_width_px"] * f, m.details["fork_ends"]))
+                 if "fork_ends" in m.details else None)
         m = (split if split is not None else _measure_split(work, f, seg)) or m
     if m.status != "ok" and best is None:
         m = _with_width_from_window(work, f, seg, cut_off, first) or m
@@ -961,14 +962,15 @@ def _rims_lost(mask, wf_mask, m, f) -> bool:
             and float(np.median(margins)) >= RIMS_LOST * width)
 
 
-def _measure_split(work, f, seg, fork_width=None):
+def _measure_split(work, f, seg, fork=None):
     """The front finger's bend when the silhouette is two fingers, one behind the other
     (``segment.split_at_inner_edge``); None when no parting gives a sure answer.
 
-    Overlapping fingers (``fork_width`` None): each of the silhouette's outer sides along
-    the fingers is one finger's outer edge, and seeds it. A silhouette that forks at the
-    knuckle into two fingers and the hand (``fork_width``: the finger's width, working
-    pixels): each finger is seeded along its own length (``fork.fork_seeds``), and both
+    Overlapping fingers (``fork`` None): each of the silhouette's outer sides along the
+    fingers is one finger's outer edge, and seeds it. A silhouette that forks at the
+    knuckle into two fingers and the hand (``fork``: the finger's width, working pixels,
+    and the free ends of the silhouette's branches, ``fork.free_branch_ends``): each
+    finger is seeded along its own length (``fork.fork_seeds``), and both
     partings must keep their finger joined to the hand (else None).
     The silhouette is parted both ways (the one finger with the hand, the other finger
     removed) and each is measured (``_measure_silhouette`` with ``parted``: the removed
@@ -984,7 +986,7 @@ def _measure_split(work, f, seg, fork_width=None):
     when both partings give one, they must agree. The answer's uncertainty includes the
     parting's (``UNC_PARTED_DEG``).
     """
-    if fork_width is None:
+    if fork is None:
         chains, _ = _outline_chains(seg.mask)
         if chains is None:
             return None
@@ -994,12 +996,13 @@ def _measure_split(work, f, seg, fork_width=None):
         sides = [p[lo:hi] for p in (a, b)]
         hand = np.vstack([p[-lo:] for p in (a, b)])
     else:
-        seeds = fork_seeds(seg.mask, fork_width)
+        wf, ends = fork
+        seeds = fork_seeds(seg.mask, wf, ends)
         if seeds is None:
             return None
-        (sides, hand), wf = seeds, fork_width
+        sides, hand = seeds
     partings = split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf)
-    if fork_width is not None and len(partings) < 2:
+    if fork is not None and len(partings) < 2:
         # a fork's two partings are weighed against each other; where only one keeps its
         # finger joined to the hand (a cable across the knuckle cut the other finger off
         # along the cable), it may be the finger behind's, cut cleanly and sure
@@ -1008,13 +1011,13 @@ def _measure_split(work, f, seg, fork_width=None):
     sure = []
     for kept, removed in partings:
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed,
-                                overlapped=fork_width is None)
+                                overlapped=fork is None)
         # the parting is itself a guess: only a reading without doubts counts, of a finger
         # at least SPLIT_MIN_WIDTH as wide as the fingers together, or the forked finger
         # (a sliver of one)
         if (m.confidence >= SPLIT_CONFIDENCE and m.details["finger_width_px"] * f >= SPLIT_MIN_WIDTH * wf
                 and not (m.angle_deg >= SPLIT_OUTER_MIN_DEG and _outer_side_parted(kept, removed, m, f))
-                and (fork_width is None or _share_within_bend(removed, m, f) >= FORK_WITHIN_BEND)):
+                and (fork is None or _share_within_bend(removed, m, f) >= FORK_WITHIN_BEND)):
             sure.append(m)
     if len(sure) == 2 and abs(sure[0].angle_deg - sure[1].angle_deg) > 3 * np.hypot(sure[0].angle_unc_deg,
                                                                                        sure[1].angle_unc_deg):
@@ -1176,11 +1179,12 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                  "colours); photograph against a background of another colour")
         m.details.update(cut_short=rest)
         return m
-    if len(free_branch_ends(mask, wf)) > 1:
+    ends = free_branch_ends(mask, wf)
+    if len(ends) > 1:
         m = fail("the silhouette forks: something (another finger, a cable, an object) touches the hand "
                  "or finger; curl the other fingers out of the side view, move the object, or give an ROI "
                  "around the finger", foreign=True, two_fingers=True, joined=True)
-        m.details.update(forks=True)
+        m.details.update(fork_ends=ends)     # (for the fork's parting: ``_measure_split``)
         return m
     k_hi, sp_hi = (LONG_FINGER if long_finger else (KNUCKLE_RANGE[1], SPAN[1]))
     lo, hi = KNUCKLE_RANGE[0] * wf, _knuckle_far_end(wf, total, k_hi)

@@ -55,13 +55,12 @@ def free_branch_ends(mask, width_px) -> list[np.ndarray]:
             for x, y in zip(xs[long], ys[long])]
 
 
-def fork_seeds(mask, width_px) -> tuple[list[np.ndarray], np.ndarray] | None:
+def fork_seeds(mask, width_px, ends) -> tuple[list[np.ndarray], np.ndarray] | None:
     """Seeds for parting a silhouette (``mask``, its finger ``width_px`` wide) that forks
     into two fingers and the hand: (per finger, its outline points ``FINGER_SEED_W``
     widths from its tip along either side; the hand's outline points within
     ``HAND_SEED_W`` widths of where it leaves the picture), or None unless exactly two
-    long branches end freely."""
-    ends = free_branch_ends(mask, width_px)
+    long branches end freely (``ends``: ``free_branch_ends`` of the silhouette)."""
     if len(ends) != 2:
         return None
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
@@ -81,6 +80,8 @@ def fork_seeds(mask, width_px) -> tuple[list[np.ndarray], np.ndarray] | None:
     for end in ends:
         d = along(int(np.argmin(np.linalg.norm(pts - end, axis=1))))
         fingers.append(pts[(d >= FINGER_SEED_W[0] * width_px) & (d <= FINGER_SEED_W[1] * width_px)])
-    to_edge = np.min([along(i) for i in np.flatnonzero(on_edge)], axis=0)
-    hand = pts[(to_edge > 0) & (to_edge <= HAND_SEED_W * width_px)]
+    # (the nearest point on the picture's edge, along the outline, ends a run of them)
+    run_ends = np.flatnonzero(on_edge & ~(np.roll(on_edge, 1) & np.roll(on_edge, -1)))
+    to_edge = np.min([along(i) for i in run_ends], axis=0)
+    hand = pts[~on_edge & (to_edge <= HAND_SEED_W * width_px)]
     return fingers, hand

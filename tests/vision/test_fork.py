@@ -37,7 +37,8 @@ def test_fork_seeds_lie_along_each_finger_and_where_the_hand_leaves_the_picture(
     width = m.details["finger_width_px"] * f
     ends = free_branch_ends(seg.mask, width)
     assert len(ends) == 2
-    fingers, hand = fork_seeds(seg.mask, width)
+    assert np.array_equal(m.details["fork_ends"], ends)     # the measurement hands them on
+    fingers, hand = fork_seeds(seg.mask, width, ends)
     for end, seeds in zip(ends, fingers):
         d = np.linalg.norm(seeds - end, axis=1)
         # (straight-line distances from the skeleton's end, up to the arclength along the outline)
@@ -53,8 +54,9 @@ def test_a_single_finger_has_one_free_branch_and_no_fork_seeds(difficulty):
     work, f, seg = _segment(img)
     m = _measure_silhouette(work, f, seg.mask, seg.contrast)
     width = m.details["finger_width_px"] * f
-    assert len(free_branch_ends(seg.mask, width)) == 1
-    assert fork_seeds(seg.mask, width) is None
+    ends = free_branch_ends(seg.mask, width)
+    assert len(ends) == 1 and "fork_ends" not in m.details
+    assert fork_seeds(seg.mask, width, ends) is None
 
 
 def test_a_fork_with_a_cable_across_the_knuckle_is_refused_not_measured_on_the_finger_behind():
