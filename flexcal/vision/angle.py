@@ -91,6 +91,7 @@ them when they lie on the silhouette and are stickers, not specks.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import cv2
 import numpy as np
@@ -101,6 +102,7 @@ from flexcal.vision.edges import BAND_MARGIN, colour_steps, cut_contrast, inward
 from flexcal.vision.fork import fork_seeds, free_branch_ends
 from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
+from flexcal.vision.order_stats import median as _median, percentile as _percentile
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
                                     segment_finger, split_at_inner_edge)
 
@@ -132,16 +134,6 @@ def _fit_line(pts, weights=None):
     wq = q * weights[:, None]
     d = _principal_direction(wq[:, 0] @ q[:, 0], wq[:, 1] @ q[:, 1], wq[:, 0] @ q[:, 1])
     return c, d, q @ np.array([-d[1], d[0]])
-
-
-def _median(x):
-    """np.median of a 1-d array, without its overhead (called thousands of times a photo)."""
-    n = len(x)
-    k = n // 2
-    if n % 2:
-        return np.partition(x, k)[k]
-    p = np.partition(x, (k - 1, k))
-    return 0.5 * (p[k - 1] + p[k])
 
 
 def _robust_line(pts, iters=4):
@@ -504,7 +496,7 @@ def _stepless_side(work, sides, s, windows, parted=None) -> bool:
         for lo, hi in windows:
             inside = (at >= lo) & (at <= hi)
             if inside.sum() >= 8:
-                medians.append(np.median(steps[inside]))
+                medians.append(_median(steps[inside]))
         if medians and min(medians) < MIN_SIDE_STEP:
             return True
         if len(medians) == len(windows) and max(medians) < MIN_EDGE_STEP:
@@ -569,7 +561,7 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
     in_hand = (s >= b + hand[0] * wf) & (s <= b + hand[1] * wf)
     if not in_hand.any():
         return 0.0
-    w_hand = float(np.median(width[in_hand]))
+    w_hand = float(_median(width[in_hand]))
     windows = []    # (start beyond the hand's window in widths, turn, wider)
     for x in np.arange(0.0, AGAIN_REACH_W + 1e-9, 0.5):
         lo = b + (hand[1] + x) * wf
@@ -581,7 +573,7 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
             windows.append((x, 0.0, False))
             continue
         turn = _line_angle(_robust_line(mid[sel])[1], d_hand)
-        windows.append((x, turn, np.median(width[sel]) > AGAIN_WIDEN * w_hand))
+        windows.append((x, turn, _median(width[sel]) > AGAIN_WIDEN * w_hand))
     run = []
     for x, turn, wider in windows:
         if turn > AGAIN_TURN_DEG and wider:
@@ -606,7 +598,7 @@ def _finger_width(width, s, facing, start):
         near = (s > WF_WIN[0] * wf) & (s < WF_WIN[1] * wf)
         if near.sum() < 5:
             break
-        wf, share = float(np.median(width[near])), float(np.mean(facing[near]))
+        wf, share = float(_median(width[near])), float(np.mean(facing[near]))
     return wf, share
 
 
@@ -614,7 +606,7 @@ def _tip_width(width, s, facing):
     """The finger's width near its tip (the hand is wider and may dominate the outline)
     from the midline's widths at arclengths ``s`` from the tip; and the share of the
     pairs that face across (``facing``) where it was taken."""
-    wf, tip_facing = _finger_width(width, s, facing, float(np.percentile(width[s > 0.05 * s[-1]], 30)))
+    wf, tip_facing = _finger_width(width, s, facing, float(_percentile(width[s > 0.05 * s[-1]], 30)))
     # A fingertip narrower than the finger behind it over more than a width (the nail,
     # in the wall's colour, left out of the silhouette) makes a fixed point of its own:
     # then the width is taken from where the silhouette reaches the finger's thickness.
@@ -1228,6 +1220,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # into straight arms clearly better beyond the range than at the place found.
     beyond = not long_finger and _splits_better_beyond(mid[facing], s[facing], wf, total, b, hi)
 
+    @lru_cache(maxsize=None)    # (asked again for the same knuckle by arms_at)
     def hand_window(bk):
         # The hand's window, (from, to) in finger widths beyond the knuckle at ``bk``. A
         # palm much thicker than the finger can end in a rounded step beyond the knuckle
@@ -1245,7 +1238,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 start = min((s[full[0]] - bk) / wf, HAND_FROM_MAX)
                 hi = min(start + length, (total - bk) / wf)
                 there = facing & (s >= bk + start * wf) & (s <= bk + hi * wf)
-                if there.sum() >= 8 and np.percentile(width[there], 5) >= HAND_FULL * np.percentile(width[there], 95):
+                if there.sum() >= 8 and _percentile(width[there], 5) >= HAND_FULL * _percentile(width[there], 95):
                     return start, hi
         return HAND_WIN[0], min(HAND_WIN[1], (total - bk) / wf)
 

@@ -27,6 +27,7 @@ import cv2
 import numpy as np
 from scipy.ndimage import binary_dilation
 
+from flexcal.vision.order_stats import median
 from flexcal.vision.segment import colour_features
 
 STEP_PX = 0.5            # sampling step along the normal
@@ -74,10 +75,13 @@ def skin_edge(bgr, pts, normals, width_px):
     depth = CORE_DEPTH[1] * width_px
     prof, t = _profiles(bgr, pts, normals, depth)
     core = (t >= CORE_DEPTH[0] * width_px) & (t <= CORE_DEPTH[1] * width_px)
-    ref = np.median(prof[:, core].reshape(-1, 3), axis=0)
+    in_core = prof[:, core].reshape(-1, 3)
+    ref = np.array([median(in_core[:, c]) for c in range(3)])
     dist = _distance(prof, ref)
-    spread = np.median(np.abs(dist[:, core] - np.median(dist[:, core])))
-    thr = max(10.0, np.median(dist[:, core]) + 4 * 1.4826 * spread)
+    core_dist = dist[:, core].ravel()
+    typical = median(core_dist)
+    spread = median(np.abs(core_dist - typical))
+    thr = max(10.0, typical + 4 * 1.4826 * spread)
     like = dist <= thr
     # like[i, j] and the next RUN_PX of samples all core-like
     run = max(1, int(round(RUN_PX / STEP_PX)))

@@ -9,6 +9,7 @@ import cv2
 import numpy as np
 
 from flexcal.vision.measurement import AngleMeasurement, Arm, failed
+from flexcal.vision.segment import box
 
 MAX_DOT_AREA = 0.002      # a marker dot covers at most this share of the picture
 DOT_STANDS_OUT = 30       # ... and this far in colour (CIELAB a*b*, 8 bit) from its surroundings
@@ -39,8 +40,13 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
         squares.append(cv2.multiply(d, d, dtype=cv2.CV_32S))
     stands_out = cv2.compare(cv2.add(*squares), DOT_STANDS_OUT ** 2, cv2.CMP_GE)
     sat = cv2.bitwise_and(cv2.inRange(hsv, (0, min_saturation, 60), (255, 255, 255)), stands_out)
+    if not cv2.countNonZero(sat):
+        return []
+    # (the rest only where there is any: a box round it, with room for the opening)
+    ys, xs = box(sat, 2)
+    oy, ox = ys.start, xs.start
     # JPEG's colour noise in dark skin next to a dot stands out too: specks off
-    sat = cv2.morphologyEx(sat, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
+    sat = cv2.morphologyEx(sat[ys, xs], cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3)))
     _, comp, stats, _ = cv2.connectedComponentsWithStats(sat, connectivity=8)
     dots = []
     min_area = max(6, 1e-5 * h0 * w0)
@@ -56,6 +62,7 @@ def find_markers(bgr, *, min_saturation=120, max_dots=12):
         # the centroid of the saturation-weighted blob is sub-pixel
         x0, y0 = stats[i, cv2.CC_STAT_LEFT], stats[i, cv2.CC_STAT_TOP]
         blob = comp[y0:y0 + bh, x0:x0 + bw] == i
+        x0, y0 = x0 + ox, y0 + oy          # (in the picture)
         patch = blob * hsv[y0:y0 + bh, x0:x0 + bw, 1].astype(float)
         yy, xx = np.mgrid[0:bh, 0:bw]
         cx, cy = (patch * xx).sum() / patch.sum() + x0, (patch * yy).sum() / patch.sum() + y0

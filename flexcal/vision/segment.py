@@ -31,6 +31,8 @@ import cv2
 import numpy as np
 from skimage.graph import MCP_Geometric
 
+from flexcal.vision.order_stats import percentile
+
 _CHROMA_SCALE = 300.0
 _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
@@ -206,7 +208,7 @@ def _arm_radius(part) -> float:
     """Half width of the widest part of a silhouette (95th percentile of its distance transform)."""
     part = part.astype(np.uint8)
     part = part[box(part)]    # a pixel of background around it is all the transform needs
-    return float(np.percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
+    return float(percentile(cv2.distanceTransform(part, cv2.DIST_L2, 3)[part > 0], 95))
 
 
 def _on_border(img, border):
