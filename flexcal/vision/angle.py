@@ -962,8 +962,10 @@ def _measure_split(work, f, seg, fork=None):
     fingers is one finger's outer edge, and seeds it. A silhouette that forks at the
     knuckle into two fingers and the hand (``fork``: the finger's width, working pixels,
     and the free ends of the silhouette's branches, ``fork.free_branch_ends``): each
-    finger is seeded along its own length (``fork.fork_seeds``), and both
-    partings must keep their finger joined to the hand (else None).
+    finger is seeded along its own length (``fork.fork_seeds``). A parting that does not
+    keep its finger joined to the hand is none (``split_at_inner_edge``): a lead across
+    the knuckle can leave only one, keeping either finger (the within-the-bend rule
+    below tells them apart).
     The silhouette is parted both ways (the one finger with the hand, the other finger
     removed) and each is measured (``_measure_silhouette`` with ``parted``: the removed
     piece must be as thick as a finger and, for overlapping fingers, lie along one side
@@ -994,12 +996,6 @@ def _measure_split(work, f, seg, fork=None):
             return None
         sides, hand = seeds
     partings = split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf)
-    if fork is not None and len(partings) < 2:
-        # a fork's two partings are weighed against each other; where only one keeps its
-        # finger joined to the hand (a cable across the knuckle cut the other finger off
-        # along the cable), it may be the finger behind's, cut cleanly and sure
-        # (held-out cluttered drawings, seed 10000 render 2: 59 deg for 33, every turn)
-        return None
     sure = []
     for kept, removed in partings:
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed,

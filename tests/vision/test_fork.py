@@ -4,11 +4,13 @@ import cv2
 import numpy as np
 import pytest
 
-from flexcal.measure import measure_file
+from flexcal.capture.images import read_image
+from flexcal.measure import _reduction, measure_file
 from flexcal.synthetic import draw_finger, render_finger
 from flexcal.vision import measure_angle
 from flexcal.vision.angle import _measure_silhouette, _segment
 from flexcal.vision.fork import FINGER_SEED_W, HAND_SEED_W, fork_seeds, free_branch_ends
+from flexcal.vision.segment import split_at_inner_edge
 
 
 def _forked(angle, rng):
@@ -62,7 +64,7 @@ def test_a_single_finger_has_one_free_branch_and_no_fork_seeds(difficulty):
 def test_a_fork_with_a_cable_across_the_knuckle_is_refused_not_measured_on_the_finger_behind():
     # the sensor's lead crosses the knuckle: the only parting that keeps its finger joined
     # to the hand cuts the index off along the lead, and keeps the finger behind, cleanly
-    # and sure (59 deg for 33); with nothing to weigh it against, it is not taken
+    # and sure (59 deg for 33); the index removed lies outside that bend: not taken
     angle = 32.686859904913575
     img, truth = _forked(angle, 2110989402)
     assert truth.params["lead"]
@@ -82,3 +84,22 @@ def test_the_finger_behind_kept_with_the_hand_is_not_taken_when_the_front_one_li
     cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
     row, _ = measure_file(path)
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 3.0, row
+
+
+def test_a_fork_parted_only_one_way_is_measured_when_that_way_keeps_the_front_finger(tmp_path):
+    # the lead across the knuckle again, here cutting the finger behind off: the one
+    # parting that keeps its finger joined to the hand keeps the front one, and it is
+    # taken (the finger behind lies within its bend). Read as `flexcal measure` reads it.
+    angle = 40.033889847729355
+    img, truth = _forked(angle, 1287901941)
+    assert truth.params["lead"]
+    path = tmp_path / "fork.jpg"
+    cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    work, f, seg = _segment(read_image(path, reduce=_reduction(path))[0])
+    m = _measure_silhouette(work, f, seg.mask, seg.contrast)
+    width = m.details["finger_width_px"] * f
+    assert len(split_at_inner_edge(work, seg.mask, *fork_seeds(seg.mask, width, m.details["fork_ends"]),
+                                   0.2 * width)) == 1
+    row, _ = measure_file(path)
+    assert row["status"] == "ok", row["reason"]
+    assert abs(row["angle_deg"] - angle) <= 2 * row["angle_unc_deg"], (row["angle_deg"], row["angle_unc_deg"])
