@@ -12,8 +12,10 @@ import numpy as np
 
 
 def median(x):
-    """np.median of a 1-d array without NaN."""
+    """np.median of a 1-d array without NaN (NaN when it is empty, as numpy's)."""
     n = len(x)
+    if n == 0:
+        return np.float64(np.nan)
     k = n // 2
     if n % 2:
         return np.partition(x, k)[k]

@@ -26,3 +26,7 @@ def test_the_input_is_left_as_it_was():
     x = np.array([5.0, 1.0, 4.0, 2.0, 3.0])
     median(x), percentile(x, 95)
     assert x.tolist() == [5.0, 1.0, 4.0, 2.0, 3.0]
+
+
+def test_the_median_of_nothing_is_nan_as_numpys():
+    assert np.isnan(median(np.array([])))
