@@ -995,9 +995,8 @@ def _measure_split(work, f, seg, fork=None):
         if seeds is None:
             return None
         sides, hand = seeds
-    partings = split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf)
     sure = []
-    for kept, removed in partings:
+    for kept, removed in split_at_inner_edge(work, seg.mask, sides, hand, 0.2 * wf):
         m = _measure_silhouette(work, f, kept, seg.contrast, cut_off=seg.cut_off_from(kept, None), parted=removed,
                                 overlapped=fork is None)
         # the parting is itself a guess: only a reading without doubts counts, of a finger
