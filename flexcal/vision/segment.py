@@ -37,6 +37,16 @@ _CHROMA_SCALE = 300.0
 _LIGHT_SCALE = 15.0
 _SHADOW_CHROMA = 4.0        # feature units (1.3 % of a channel share)
 _SHADOW_RATIO = (0.35, 0.97)  # how much darker a shadow is than the lit surface
+# (seen on renders: skin in a white platform's or a wood board's colours, a poster of the
+# skin's colours joined to the hand, tape in the wall's colours cutting the finger from
+# the hand; a finger out of view is rarer. Colours that cover much of the picture's edge
+# are the background's: within an ROI around the hand and finger a platform covers less
+# of it, and such renders were measured right)
+NO_PART = ("no elongated object in other colours than the background's enters the picture from an edge: the "
+           "hand and finger share colours with the wall or a platform, something of their colours is joined to "
+           "the hand, a band in the background's colours cuts the finger from the hand, or they are not in view; "
+           "give an ROI around the hand and finger, or photograph against a background of another colour with "
+           "nothing touching the hand")
 _BRIDGED_STUB = 2.0         # a squat piece on the border bridged into a finger-like one at least this many times its size
 _SAME_SURFACE = 5.0         # feature distance under which two colour clusters are one surface
 _INTERLEAVED = 0.5          # ... or when more than this share of each one's pixels lie next to the other's (a print)
@@ -488,8 +498,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     if not shadow_is_finger:
         background = background | shadow
     if best is None:
-        return Segmentation(None, "no elongated object enters the picture from an edge (is the finger in view?)",
-                            n_candidates=candidates)
+        return Segmentation(None, NO_PART, n_candidates=candidates)
     part = (comp == best).astype(np.uint8)
     tip, half = _fingertip(part, border_full)
     tip_clusters = _tip_clusters(part, labels, tip, half, k)
