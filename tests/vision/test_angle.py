@@ -555,17 +555,22 @@ def test_a_tape_band_over_the_finger_shaft_widens_the_uncertainty(seed):
     assert abs(m0.angle_deg - 40.0) < 1.0 and abs(m1.angle_deg - 40.0) < 2 * m1.angle_unc_deg
 
 
-def _as_saved_photo(tmp_path, angle, rng, difficulty, transform=None):
-    """A 1280x960 render written and read back as a user's JPEG photo (the benchmark's
-    photos), measured as `flexcal measure` does: its row of the angles table.
+def _saved_photo(tmp_path, angle, rng, difficulty, transform=None):
+    """A 1280x960 render written as a user's JPEG photo (the benchmark's photos): its path.
     ``transform`` (image -> image) is applied before saving: a mirrored photo, say."""
-    from flexcal.measure import measure_file
     img, _ = render_finger(angle, shape=(960, 1280), rng=rng, difficulty=difficulty, jpeg_quality=None)
     if transform is not None:
         img = np.ascontiguousarray(transform(img))
     path = tmp_path / "photo.jpg"
     cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
-    return measure_file(path)[0]
+    return path
+
+
+def _as_saved_photo(tmp_path, angle, rng, difficulty, transform=None):
+    """The saved photo (``_saved_photo``) read back and measured as `flexcal measure`
+    does: its row of the angles table."""
+    from flexcal.measure import measure_file
+    return measure_file(_saved_photo(tmp_path, angle, rng, difficulty, transform))[0]
 
 
 def _assert_measured(tmp_path, angle, rng, difficulty, tol, transform=None):
@@ -1313,9 +1318,7 @@ def test_no_part_on_the_edge_names_the_causes_and_an_roi_measures_it(tmp_path):
     # as it advises, measures the photo right
     from flexcal.measure import measure_file
     a = 2.5733213027490462
-    img, _ = render_finger(a, shape=(960, 1280), rng=1707220939, difficulty="realistic", jpeg_quality=None)
-    path = tmp_path / "photo.jpg"
-    cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    path = _saved_photo(tmp_path, a, 1707220939, "realistic")
     row, _ = measure_file(path)
     assert row["status"] == "failed" and row["reason"].startswith("no elongated object"), row
     assert "share colours with the wall or a platform" in row["reason"] and "give an ROI" in row["reason"]
