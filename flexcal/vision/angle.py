@@ -1125,7 +1125,10 @@ def _free_stretches(contour, mask):
     if exits < 2:
         return starts, lengths, exits
     dist = cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5)
-    for a, k in zip(*_runs(on)):
+    contacts, spans = _runs(on)
+    for a, k in zip(contacts, spans):
+        if k == spans.max():
+            continue        # (the longest contact is where the forearm leaves the picture)
         touch = np.arange(a, a + k) % len(contour)
         x, y = contour[touch].mean(axis=0).astype(int)
         r = k + 2       # (the thickness within a contact's length of it)
