@@ -1116,8 +1116,7 @@ def _free_stretches(contour, mask):
     picture's edge over 24 px, the finger 30 px thick, was refused in every orientation
     as leaving the picture twice).
     """
-    h, w = mask.shape
-    on = (contour[:, 0] <= 0.5) | (contour[:, 1] <= 0.5) | (contour[:, 0] >= w - 1.5) | (contour[:, 1] >= h - 1.5)
+    on = border_pixels(mask.shape)[contour[:, 1].astype(int), contour[:, 0].astype(int)]
     if not on.any():
         return None, None, 0
     starts, lengths = _runs(~on)
