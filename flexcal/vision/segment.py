@@ -54,6 +54,7 @@ _ARM_COLOUR = 9.0           # squared Mahalanobis distance to the arm's colour: 
 _OTHER_COLOUR = (50.0, 25.0)  # ... and surely something else's: features and chromaticity alone (7, 5 sigma)
 _SPLIT_KEPT = 0.8           # a silhouette parted from another finger keeps this much of the rest at least
 _GROWN_THICKER = 1.5        # the arm grown over the picture is at most this much thicker than the part
+_COLOUR_SHARE = 0.03        # a colour cluster on at least this share of a region is one of its colours
 _NECK = 0.25                # a loose piece joined to the silhouette only by a strip under this many half widths wide is loose
 
 
@@ -89,11 +90,20 @@ class Segmentation:
 
         The fingertip's colours are those near the chosen part's tip and, for a rebuilt
         silhouette, those near its own tip: rebuilt from fewer colours, it can end at a
-        band with the rest of the finger beyond it in colours the part's tip lacks.
+        band with the rest of the finger beyond it in colours the part's tip lacks. Of
+        the part's tip colours a rebuilt silhouette counts only those it holds itself
+        (``_COLOUR_SHARE`` of it at least): the part's free end can be a poster joined to
+        the fingertip, and a piece of that poster beside the tip is then no finger
+        beyond a band (held-out 150000 realistic 24: a pale poster by the nail refused
+        every rebuilt silhouette of the finger, whole, as cut short).
         """
         if self.tip_clusters is None:
             return cut_off
-        found = [cut_off, _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)]
+        tip_clusters = self.tip_clusters
+        if mask is not self.mask:
+            held = np.bincount(self.labels[mask > 0], minlength=len(self.centres))
+            tip_clusters = tip_clusters & (held >= _COLOUR_SHARE * max(1, held.sum()))
+        found = [cut_off, _loose_pieces(self.fg, mask, self.labels, tip_clusters, self.tip_half)]
         if mask is not self.mask:
             tip, half = _fingertip(mask, border_pixels(mask.shape))
             own = _tip_clusters(mask, self.labels, tip, half, len(self.centres))
@@ -597,11 +607,12 @@ def _interleaved(labels, k):
 
 
 def _arm_clusters(seg: Segmentation, region) -> np.ndarray:
-    """The clusters on at least 3 % of ``region``, with the clusters of nearly the same
-    colour (light and shade across the arm); background that the closings took into the
-    part (between the hand and the cable, say) is not the arm's colour."""
+    """The clusters on at least ``_COLOUR_SHARE`` of ``region``, with the clusters of
+    nearly the same colour (light and shade across the arm); background that the
+    closings took into the part (between the hand and the cable, say) is not the arm's
+    colour."""
     share = np.bincount(seg.labels[region], minlength=len(seg.centres)) / region.sum()
-    return _same_surface(seg.centres)[share >= 0.03].any(axis=0) & ~seg.background
+    return _same_surface(seg.centres)[share >= _COLOUR_SHARE].any(axis=0) & ~seg.background
 
 
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
