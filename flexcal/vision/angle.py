@@ -819,8 +819,8 @@ def _measure_segmentation(work, f, seg, readings=None):
         m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
         readings.append(m2)
         straight = not np.isnan(m.angle_deg) and m.details.get("kink_hand_deg", np.inf) <= KINK_TOL_DEG[1]
-        if (m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1]
-                and not (straight and abs(m2.angle_deg - m.angle_deg) > 2 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg))):
+        agrees = not straight or abs(m2.angle_deg - m.angle_deg) <= 2 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg)
+        if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees:
             m = m2
         elif m2.status == "ok":
             sure.append(m2)

@@ -101,8 +101,7 @@ class Segmentation:
             return cut_off
         tip_clusters = self.tip_clusters
         if mask is not self.mask:
-            held = np.bincount(self.labels[mask > 0], minlength=len(self.centres))
-            tip_clusters = tip_clusters & (held >= _COLOUR_SHARE * max(1, held.sum()))
+            tip_clusters = tip_clusters & _clusters_on(self.labels, mask > 0, len(self.centres))
         found = [cut_off, _loose_pieces(self.fg, mask, self.labels, tip_clusters, self.tip_half)]
         if mask is not self.mask:
             tip, half = _fingertip(mask, border_pixels(mask.shape))
@@ -606,13 +605,20 @@ def _interleaved(labels, k):
     return both
 
 
+def _clusters_on(labels, region, k) -> np.ndarray:
+    """Per each of the ``k`` colour clusters, whether it covers at least ``_COLOUR_SHARE``
+    of ``region`` (a boolean image; none does of an empty one)."""
+    n = np.bincount(labels[region], minlength=k)
+    total = n.sum()
+    return n / total >= _COLOUR_SHARE if total else np.zeros(k, bool)
+
+
 def _arm_clusters(seg: Segmentation, region) -> np.ndarray:
-    """The clusters on at least ``_COLOUR_SHARE`` of ``region``, with the clusters of
-    nearly the same colour (light and shade across the arm); background that the
-    closings took into the part (between the hand and the cable, say) is not the arm's
-    colour."""
-    share = np.bincount(seg.labels[region], minlength=len(seg.centres)) / region.sum()
-    return _same_surface(seg.centres)[share >= _COLOUR_SHARE].any(axis=0) & ~seg.background
+    """The clusters on at least ``_COLOUR_SHARE`` of ``region`` (``_clusters_on``), with
+    the clusters of nearly the same colour (light and shade across the arm); background
+    that the closings took into the part (between the hand and the cable, say) is not
+    the arm's colour."""
+    return _same_surface(seg.centres)[_clusters_on(seg.labels, region, len(seg.centres))].any(axis=0) & ~seg.background
 
 
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
