@@ -959,18 +959,21 @@ def test_a_finger_cut_short_is_measured_on_finer_colours_that_hold_the_rest_of_i
     assert m.status == "ok" and abs(m.angle_deg - angle) < 1.0, (m.angle_deg, m.reason)
 
 
-@pytest.mark.parametrize("turn", [None, np.fliplr])
-def test_a_poster_at_the_fingertip_does_not_cut_a_rebuilt_finger_short(turn):
-    # held-out 150000 realistic render 24, bent 81 deg: in nine colours the part's free
-    # end is a pale poster joined to the fingertip, so the part's "tip colours" are the
-    # poster's; the silhouettes rebuilt in the forearm's colours hold the whole finger,
-    # and a piece of the poster beside its nail counted as the finger beyond a band:
-    # every one was refused as cut short. (Mirrored it measures 83.4 +- 1.3 deg: the
-    # knuckle of an 81 deg bend is a wide arc)
-    a = 81.04425203692676
-    img, _ = _benchmark_photo(a, 837905990, "realistic", transform=turn)
+@pytest.mark.parametrize("turn", [lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE),
+                                  lambda im: cv2.rotate(im, cv2.ROTATE_180),
+                                  lambda im: cv2.rotate(im, cv2.ROTATE_90_COUNTERCLOCKWISE), np.fliplr],
+                         ids=["r90", "r180", "r270", "mirrored"])
+def test_an_oval_poster_joined_to_the_finger_between_two_bands_is_not_measured(turn):
+    # seed 5000 hard render 15, bent 13.5 deg: two tape bands in the wall's colours cut
+    # a purple glove's finger into pieces, and a thin oval poster, its end on the
+    # picture's edge, joins the middle piece. The silhouettes rebuilt in the poster's
+    # colours are the oval alone, 2.65 % of the picture wide and straight; with the
+    # glove's piece just ahead of its end left uncounted (the part's tip colours, which
+    # the oval does not hold) they measured 0.1-0.6 deg, sure
+    a = 13.523055417171294
+    img, _ = _benchmark_photo(a, 20277394, "hard", transform=turn)
     m = measure_angle(img)
-    assert m.status == "ok" and abs(m.angle_deg - a) < 2.5, (m.angle_deg, m.reason)
+    assert m.status == "failed" or abs(m.angle_deg - a) < max(3.0, 2 * m.angle_unc_deg), (m.angle_deg, m.reason)
 
 
 def test_a_stub_joined_to_the_rest_of_the_finger_by_a_thin_rim_is_cut_short(tmp_path):
