@@ -37,3 +37,43 @@ def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_pat
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 2 and "--glove" in run.stderr and "drawn" in run.stderr
     assert "clean" not in run.stdout
+
+
+COMPARE = BENCHMARK.with_name("compare.py")
+
+
+def test_compare_lists_every_photo_whose_outcome_changed(tmp_path):
+    # four photos of one suite: one newly refused, one newly answered, one whose answer
+    # moved by 2 deg, one that became a silent error; the fifth is unchanged
+    head = "suite,index,image,angle_deg,angle_unc_deg,confidence,status,reason,true_angle_deg\n"
+    before = ["realistic,0,a.jpg,30.2,1.0,1.0,ok,,30.0", "realistic,1,b.jpg,,,0.1,failed,too thin,40.0",
+              "realistic,2,c.jpg,50.1,1.0,1.0,ok,,50.0", "realistic,3,d.jpg,60.3,1.0,1.0,ok,,60.0",
+              "realistic,4,e.jpg,70.4,1.0,1.0,ok,,70.0"]
+    after = ["realistic,0,a.jpg,,,0.1,failed,cut short,30.0", "realistic,1,b.jpg,40.3,0.8,0.9,ok,,40.0",
+             "realistic,2,c.jpg,52.1,1.0,1.0,ok,,50.0", "realistic,3,d.jpg,67.0,1.0,1.0,ok,,60.0",
+             "realistic,4,e.jpg,70.4,1.0,1.0,ok,,70.0"]
+    (tmp_path / "before.csv").write_text(head + "\n".join(before) + "\n")
+    (tmp_path / "after.csv").write_text(head + "\n".join(after) + "\n")
+    run = subprocess.run([sys.executable, str(COMPARE), str(tmp_path / "before.csv"), str(tmp_path / "after.csv")],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    out = run.stdout.splitlines()
+    assert out[1].split() == ["realistic", "5", "80.0%", "80.0%", "0", "1"], out
+    listed = {title: [] for title in ("newly answered", "newly refused", "answers moved", "new silent", "silent errors gone")}
+    current = None
+    for line in out[2:]:
+        if not line.startswith("  "):
+            current = next(t for t in listed if line.startswith(t))
+        else:
+            listed[current].append(line.split()[1].rstrip(","))
+    assert listed == {"newly answered": ["b.jpg"], "newly refused": ["a.jpg"], "answers moved": ["c.jpg", "d.jpg"],
+                      "new silent": ["d.jpg"], "silent errors gone": []}, out
+    assert any("a.jpg" in line and "now: cut short" in line for line in out)
+
+
+def test_compare_names_a_file_that_is_not_a_details_table(tmp_path):
+    bad = tmp_path / "angles.csv"
+    bad.write_text("image,angle_deg\nx.jpg,3.0\n")
+    run = subprocess.run([sys.executable, str(COMPARE), str(bad), str(bad)], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2
+    assert str(bad) in run.stderr and "no column suite" in run.stderr and "--details" in run.stderr
