@@ -59,7 +59,8 @@ def test_compare_lists_every_photo_whose_outcome_changed(tmp_path):
     assert run.returncode == 0, run.stderr
     out = run.stdout.splitlines()
     assert out[1].split() == ["realistic", "5", "80.0%", "80.0%", "0", "1"], out
-    listed = {title: [] for title in ("newly answered", "newly refused", "answers moved", "new silent", "silent errors gone")}
+    titles = ("newly answered", "newly refused", "answers moved", "new silent", "silent errors gone")
+    listed = {title: [] for title in titles}
     current = None
     for line in out[2:]:
         if not line.startswith("  "):
