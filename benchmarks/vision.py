@@ -9,7 +9,9 @@ ok or low_confidence), the share answered, silent gross errors (answered with an
 over 5 deg), the share whose true angle lies within 2 sigma, and images per second per
 process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
 back, as a user's photos would be. ``--details`` writes one row per render (truth, answer,
-uncertainty, status, reason and the render's nuisances) to find what fails.
+uncertainty, status, reason and the render's nuisances) to find what fails; two such files
+of the same run, before and after a change, are compared row by row by
+``benchmarks/compare.py``.
 The suites clean, realistic and hard are ``flexcal.synthetic.render_finger``'s presets;
 drawn is ``flexcal.synthetic.drawn``: fingers drawn another way, which the method was not
 built on, to show whether it holds beyond the renderer it was developed with; cluttered
