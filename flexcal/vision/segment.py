@@ -605,20 +605,15 @@ def _interleaved(labels, k):
     return both
 
 
-def _clusters_on(labels, region, k) -> np.ndarray:
-    """Per each of the ``k`` colour clusters, whether it covers at least ``_COLOUR_SHARE``
-    of ``region`` (a boolean image; none does of an empty one)."""
-    n = np.bincount(labels[region], minlength=k)
-    total = n.sum()
-    return n / total >= _COLOUR_SHARE if total else np.zeros(k, bool)
-
-
 def _arm_clusters(seg: Segmentation, region) -> np.ndarray:
-    """The clusters on at least ``_COLOUR_SHARE`` of ``region`` (``_clusters_on``), with
-    the clusters of nearly the same colour (light and shade across the arm); background
-    that the closings took into the part (between the hand and the cable, say) is not
-    the arm's colour."""
-    return _same_surface(seg.centres)[_clusters_on(seg.labels, region, len(seg.centres))].any(axis=0) & ~seg.background
+    """The clusters on at least ``_COLOUR_SHARE`` of ``region``, with the clusters of
+    nearly the same colour (light and shade across the arm); background that the
+    closings took into the part (between the hand and the cable, say) is not the arm's
+    colour."""
+    n = np.bincount(seg.labels[region], minlength=len(seg.centres))
+    total = n.sum()
+    held = n / total >= _COLOUR_SHARE if total else np.zeros(len(n), bool)
+    return _same_surface(seg.centres)[held].any(axis=0) & ~seg.background
 
 
 def forearm_clusters(seg: Segmentation) -> list[np.ndarray]:
