@@ -9,9 +9,10 @@ ok or low_confidence), the share answered, silent gross errors (answered with an
 over 5 deg), the share whose true angle lies within 2 sigma, and images per second per
 process (JPEG decoding included). Renders are written as JPEG (quality 90) and read
 back, as a user's photos would be. ``--details`` writes one row per render (truth, answer,
-uncertainty, status, reason and the render's nuisances) to find what fails; two such files
-of the same run, before and after a change, are compared row by row by
-``benchmarks/compare.py``.
+uncertainty, status, reason, the render's nuisances and the measurement's own figures,
+``detail_*``) to find what fails, and how well a new check would tell right answers from
+wrong ones; two such files of the same run, before and after a change, are compared row
+by row by ``benchmarks/compare.py``.
 The suites clean, realistic and hard are ``flexcal.synthetic.render_finger``'s presets;
 drawn is ``flexcal.synthetic.drawn``: fingers drawn another way, which the method was not
 built on, to show whether it holds beyond the renderer it was developed with; cluttered
@@ -40,7 +41,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from flexcal.measure import measure_file
+from flexcal.measure import measure_photo
 from flexcal.synthetic import render_finger
 from flexcal.synthetic.drawn import draw_finger
 from flexcal.synthetic.render import GLOVES
@@ -56,6 +57,19 @@ ORIENTATIONS = {"": lambda im: im,
                 "r180": lambda im: cv2.rotate(im, cv2.ROTATE_180),
                 "r270": lambda im: cv2.rotate(im, cv2.ROTATE_90_COUNTERCLOCKWISE),
                 "mirror": lambda im: np.ascontiguousarray(im[:, ::-1])}
+
+
+def diagnostics(m) -> dict:
+    """The measurement's own figures (``AngleMeasurement.details``) that are single
+    numbers, flags or words, as ``detail_<name>`` columns: the taper of the arms' edges,
+    the knuckle's distance from the tip, the hand's width over the finger's, why no
+    finger was found, ... (those of the silhouette the answer or refusal came from, as
+    far as it got; pixels of the photo as read, at half size for a 1280x960 JPEG). They
+    show how well a check would tell right answers from wrong ones over a whole run."""
+    def plain(v):
+        return v if isinstance(v, (bool, str)) else bool(v) if isinstance(v, np.bool_) else float(v)
+    return {f"detail_{k}": plain(v) for k, v in m.details.items()
+            if isinstance(v, (int, float, str, np.integer, np.floating, np.bool_))}
 
 
 def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None):
@@ -81,8 +95,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     t0 = time.perf_counter()
     rows = []
     for f in files:
-        row, _ = measure_file(f)        # as `flexcal measure` reads and measures a photo
-        rows.append({**row, "image": f.name})
+        m, _, _ = measure_photo(f)      # as `flexcal measure` reads and measures a photo
+        rows.append({"image": f.name, **m.row(), **diagnostics(m)})
     dt = time.perf_counter() - t0
     details = [{"suite": difficulty, "index": i, **rows[i], "error_deg": rows[i]["angle_deg"] - truth[i],
                 **params[i]} for i in range(len(files))]

@@ -63,6 +63,31 @@ def overlay_names(paths) -> list[str]:
     return ["__".join(Path(lab).with_suffix("").parts) + "_overlay.jpg" for lab in photo_labels(paths)]
 
 
+def measure_photo(path, *, roi=None, method="auto"):
+    """Read one photo and measure it, never raising for what the file holds: (the
+    ``AngleMeasurement``, its vertex and arms in the photo's pixels; the image as read,
+    None when unreadable; the JPEG decode reduction it was read at).
+
+    A JPEG is decoded reduced when it stays at least the working resolution
+    (``_reduction``): ``measure_angle`` would shrink it to that anyway. The measurement's
+    ``details`` are as ``measure_angle`` gives them, in the pixels of the image as read.
+    """
+    path = Path(path)
+    red = 1 if roi is not None else _reduction(path)
+    img, why = read_image(path, reduce=red)
+    if img is None:
+        return failed(why, method), None, red
+    try:
+        m = measure_angle(img, roi=None if roi is None else roi, method=method)
+    except ValueError as e:  # an ROI that does not fit this photo
+        m = failed(str(e), method)
+    except Exception as e:  # a bug must not take the batch down; the row says what happened
+        m = failed(f"internal error: {type(e).__name__}: {e}", method)
+    if red > 1:
+        m = _scale(m, red)
+    return m, img, red
+
+
 def measure_file(path, *, roi=None, method="auto", overlay_dir=None, overlay_name=None, thumb_w=320):
     """Measure one photo. Returns (row dict, overlay thumbnail BGR or None).
 
@@ -70,19 +95,7 @@ def measure_file(path, *, roi=None, method="auto", overlay_dir=None, overlay_nam
     ``<stem>_overlay.jpg``) and its thumbnail returned.
     """
     path = Path(path)
-    red = 1 if roi is not None else _reduction(path)
-    img, why = read_image(path, reduce=red)
-    if img is None:
-        m = failed(why, method)
-    else:
-        try:
-            m = measure_angle(img, roi=None if roi is None else roi, method=method)
-        except ValueError as e:  # an ROI that does not fit this photo
-            m = failed(str(e), method)
-        except Exception as e:  # a bug must not take the batch down; the row says what happened
-            m = failed(f"internal error: {type(e).__name__}: {e}", method)
-        if red > 1:
-            m = _scale(m, red)
+    m, img, red = measure_photo(path, roi=roi, method=method)
     thumb = None
     if img is not None and overlay_dir is not None:  # overlays cost a full-size decode: only when asked
         full = img if red == 1 else cv2.imread(str(path), cv2.IMREAD_COLOR)

@@ -22,6 +22,12 @@ def test_the_benchmark_writes_one_row_per_render_of_every_suite(tmp_path):
             or r["angle_deg"] in ("", "nan"), r
     assert rows[0]["skin_tone"] and not rows[2]["skin_tone"]            # the renderer's nuisances
     assert rows[2]["hand_to_finger"] and not rows[0]["hand_to_finger"]  # the drawing's
+    # the measurement's own figures: the edges' taper and the knuckle's place on every
+    # answer (a refusal has those it got to before it stopped)
+    answered = [r for r in rows if r["status"] != "failed"]
+    assert answered
+    for r in answered:
+        assert 0 <= float(r["detail_taper_deg"]) < 12 and 4 < float(r["detail_knuckle_from_tip_widths"]) < 13, r
 
 
 def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_path):
