@@ -70,7 +70,7 @@ def cmd_measure(args) -> int:
     from pathlib import Path
 
     from flexcal.capture.images import find_images
-    from flexcal.measure import measure_files
+    from flexcal.measure import measure_files, unsure_lines
 
     files = find_images(args.paths, all_files=True)
     if not files:
@@ -82,17 +82,27 @@ def cmd_measure(args) -> int:
     counts = df["status"].value_counts()
     print(f"measured {len(df)} photo(s): " + ", ".join(f"{counts.get(k, 0)} {k}" for k in ("ok", "low_confidence", "failed"))
           + f"; angles table: {out}" + (f"; overlays: {args.overlays}" if args.overlays else ""))
+    for line in unsure_lines(df, out):
+        print(line)
     return 0
 
 
 def cmd_remeasure(args) -> int:
+    from pathlib import Path
+
+    import pandas as pd
+
+    from flexcal.measure import unsure_lines
     from flexcal.remeasure import remeasure
 
     s = remeasure(args.trials, args.out, reference=args.reference, jobs=args.jobs, worst=args.worst)
     st = s["status"]
+    table = Path(args.out) / "angles.csv"
     print(f"re-measured {s['photos']} photo(s): " + ", ".join(f"{st.get(k, 0)} {k}" for k in
                                                             ("ok", "low_confidence", "failed"))
-          + f"; angles: {args.out}/angles.csv, overlays: {args.out}/overlays/")
+          + f"; angles: {table}, overlays: {Path(args.out) / 'overlays'}")
+    for line in unsure_lines(pd.read_csv(table), table):
+        print(line)
     if "bland_altman" in s:
         b = s["bland_altman"]
         print(f"against {args.reference} ({s['mapping']}): {b['n']} compared, {s['not_compared']} not; "

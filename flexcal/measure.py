@@ -108,6 +108,21 @@ def measure_file(path, *, roi=None, method="auto", overlay_dir=None, overlay_nam
     return row, thumb
 
 
+def unsure_lines(angles: pd.DataFrame, table, limit: int = 10) -> list[str]:
+    """Lines for the terminal after a batch: each photo not measured (failed) or measured
+    with a doubt (low_confidence), with the reason, which names what to change; the
+    first ``limit`` of them in the table's order, then how many more ``table`` (the
+    angles table's path) holds. None when every photo was measured sure."""
+    rows = angles[angles["status"] != "ok"]
+    if rows.empty:
+        return []
+    lines = ["not measured, or measured with a doubt (the overlays show what was taken for the finger):"]
+    lines += [f"  {r.image}: {r.status}: {r.reason}" for r in rows.head(limit).itertuples()]
+    if len(rows) > limit:
+        lines.append(f"  ... and {len(rows) - limit} more: the status and reason columns of {table}")
+    return lines
+
+
 def _scale(m: AngleMeasurement, f: float) -> AngleMeasurement:
     m.vertex = (m.vertex[0] * f, m.vertex[1] * f)
     for arm in (m.proximal, m.distal):

@@ -36,6 +36,24 @@ def test_measure_folder_with_bad_files_keeps_every_row(tmp_path, capsys):
     assert ((good["angle_deg"] - pd.Series([10.0, 45.0, 80.0], index=good.index)).abs() < 2).all()
     assert (tmp_path / "ov" / "contact_sheet.png").exists()
     assert len(list((tmp_path / "ov").glob("*_overlay.jpg"))) == 5   # one per readable photo
+    # the terminal names each photo not measured, with why, and no photo measured sure
+    said = capsys.readouterr().out
+    for r in df[df["status"] == "failed"].itertuples():
+        assert f"  {r.image}: failed: {r.reason}\n" in said
+    for r in df[df["status"] == "ok"].itertuples():
+        assert r.image not in said
+
+
+def test_the_photos_not_measured_are_listed_up_to_a_limit():
+    from flexcal.measure import unsure_lines
+
+    rows = [{"image": f"p{i:02d}.jpg", "status": "ok" if i % 3 == 0 else ("failed" if i % 3 == 1 else "low_confidence"),
+             "reason": "" if i % 3 == 0 else f"why {i}"} for i in range(30)]
+    lines = unsure_lines(pd.DataFrame(rows), "angles.csv", limit=4)
+    assert lines[1:] == ["  p01.jpg: failed: why 1", "  p02.jpg: low_confidence: why 2", "  p04.jpg: failed: why 4",
+                         "  p05.jpg: low_confidence: why 5", "  ... and 16 more: the status and reason columns of "
+                         "angles.csv"]
+    assert unsure_lines(pd.DataFrame(rows[::3]), "angles.csv") == []       # every photo measured sure
 
 
 def test_a_parallel_batch_gives_the_rows_of_one_process(tmp_path):

@@ -53,7 +53,10 @@ def test_remeasure_against_an_imagej_table_with_labels_and_repeats(trial, tmp_pa
     assert s["bland_altman"]["n"] >= 4 and abs(s["bland_altman"]["bias_deg"]) < 2.0
     for f in ("angles.csv", "bland_altman.png", "worst.png", "overlays/contact_sheet.png"):
         assert (out / f).is_file(), f
-    assert "limits of agreement" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "limits of agreement" in said
+    # every photo measured sure: none listed as not measured or with a doubt
+    assert (pd.read_csv(out / "angles.csv")["status"] == "ok").all() and "not measured" not in said
 
 
 def test_rows_without_labels_map_in_sorted_order(trial, tmp_path):
