@@ -116,7 +116,7 @@ def unsure_lines(angles: pd.DataFrame, table, limit: int = 10) -> list[str]:
     rows = angles[angles["status"] != "ok"]
     if rows.empty:
         return []
-    lines = ["not measured, or measured with a doubt (the overlays show what was taken for the finger):"]
+    lines = ["not measured, or measured with a doubt:"]
     lines += [f"  {r.image}: {r.status}: {r.reason}" for r in rows.head(limit).itertuples()]
     if len(rows) > limit:
         lines.append(f"  ... and {len(rows) - limit} more: the status and reason columns of {table}")
@@ -129,6 +129,8 @@ def _scale(m: AngleMeasurement, f: float) -> AngleMeasurement:
         if arm is not None:
             arm.point = arm.point * f
             arm.length_px *= f
+    if m.outline is not None:
+        m.outline = m.outline * f
     return m
 
 

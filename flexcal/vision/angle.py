@@ -675,6 +675,7 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 
 
 def _measure_contour(bgr, segmented=None):
+    segmented = segmented if segmented is not None else _segment(bgr)
     readings = []
     m = _measure_segmentations(bgr, segmented, readings)
     # An unsure answer that another reading of the photo contradicts (another silhouette
@@ -683,13 +684,20 @@ def _measure_contour(bgr, segmented=None):
     # finer ones give 5.4-7.6; 50000 hard 28 upside down: 81.6 for 89.7, where a finer
     # silhouette that lost its rims gives 92.2, sure)
     other = _disagreeing(m, [r for r in readings if r is not m]) if m.status == "low_confidence" else None
-    return _readings_disagree(m, other) if other is not None else m
+    m = _readings_disagree(m, other) if other is not None else m
+    _, f, seg = segmented
+    if not m and seg.mask is not None:
+        # what was taken for the hand and finger, for the overlay: most refusals say what
+        # is wrong with it (a strip of the finger, two fingers as one, a poster joined)
+        contours, _ = cv2.findContours(seg.mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        m.outline = max(contours, key=len).reshape(-1, 2).astype(float) / f
+    return m
 
 
 def _measure_segmentations(bgr, segmented, readings):
     """``_measure_contour``'s search over the photo's segmentations; the silhouettes'
     measurements are appended to ``readings`` (``_measure_segmentation``)."""
-    work, f, seg = segmented if segmented is not None else _segment(bgr)
+    work, f, seg = segmented
     m = _measure_segmentation(work, f, seg, readings)
     if seg.shadow_left_out:
         m, disagree = _with_shadow_colours(work, f, m, readings)
@@ -1591,7 +1599,9 @@ def measure_angle(image, *, roi=None, method: str = "auto") -> AngleMeasurement:
         ``angle_deg`` (bend: 0 = straight, flexion positive), ``angle_unc_deg`` (1 sigma),
         ``confidence`` in [0, 1], ``status`` ('ok', 'low_confidence', 'failed'), ``reason``,
         ``vertex`` and the two arms, in the input image's pixels. A measurement that
-        failed is falsy and has NaN angle; it never raises for a bad picture.
+        failed is falsy and has NaN angle; it never raises for a bad picture. A refusal
+        of the outline method has the ``outline`` of what was taken for the hand and
+        finger, when anything was (the overlay draws it).
 
     Examples
     --------
@@ -1650,4 +1660,6 @@ def _shift(m: AngleMeasurement, ox, oy) -> AngleMeasurement:
         for arm in (m.proximal, m.distal):
             if arm is not None:
                 arm.point = arm.point + off
+        if m.outline is not None:
+            m.outline = m.outline + off
     return m

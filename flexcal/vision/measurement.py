@@ -34,6 +34,9 @@ class AngleMeasurement:
     proximal: Arm | None = None
     distal: Arm | None = None
     details: dict = field(default_factory=dict)
+    # a refusal's silhouette: the outline (N, 2: x, y) of what was taken for the hand and
+    # finger, for the overlay to show what went wrong; None when there was none
+    outline: np.ndarray | None = None
 
     def __bool__(self):
         return self.status != "failed"

@@ -14,12 +14,17 @@ _COLOURS = {"ok": (60, 200, 60), "low_confidence": (0, 190, 255), "failed": (40,
 
 
 def draw_overlay(image, m: AngleMeasurement) -> np.ndarray:
-    """The photo with the two arms, the vertex and the angle drawn as ImageJ's angle tool shows them."""
+    """The photo with the two arms, the vertex and the angle drawn as ImageJ's angle tool
+    shows them; for a refusal, the outline of what was taken for the hand and finger."""
     img = as_bgr8(image).copy()
     h, w = img.shape[:2]
     s = max(1.0, min(h, w) / 480)
     thick = max(1, int(round(2 * s)))
     col = _COLOURS.get(m.status, (200, 200, 200))
+    if m.outline is not None and len(m.outline) > 1:
+        pts = np.round(m.outline).astype(np.int32).reshape(-1, 1, 2)
+        cv2.polylines(img, [pts], True, (0, 0, 0), thick + 2, cv2.LINE_AA)
+        cv2.polylines(img, [pts], True, col, thick, cv2.LINE_AA)
     if m.proximal is not None and m.distal is not None and np.isfinite(m.vertex[0]):
         v = np.array(m.vertex, float)
         p_end = v + m.proximal.direction * m.proximal.length_px

@@ -175,6 +175,64 @@ def test_overlay_and_contact_sheet(reference_photo):
     assert sheet.shape[1] > 2 * 300 and sheet.dtype == np.uint8
 
 
+@pytest.fixture(scope="module")
+def refused_photo():
+    """A clean render with an orange bar joined to the finger and reaching the picture's
+    bottom edge (something joined to the finger: refused), the bar's and the hand and
+    finger's pixels."""
+    img, truth = render_finger(40, shape=(960, 1280), rng=0, difficulty="clean")
+    bar = np.zeros(truth.mask.shape, bool)
+    bar[530:, 410:490] = True
+    img[bar] = (0, 140, 255)
+    return img, bar, truth.mask
+
+
+def _inside(outline, shape):
+    inside = np.zeros(shape, np.uint8)
+    cv2.fillPoly(inside, [np.round(outline).astype(np.int32)], 1)
+    return inside.astype(bool)
+
+
+def _outlines_what_was_taken(outline, bar, hand, region=None):
+    """The outline holds the bar and the hand and finger (all but the sensor's strip
+    along the top, which the silhouette leaves out), and little else."""
+    got = _inside(outline, bar.shape)
+    region = np.ones(bar.shape, bool) if region is None else region
+    near = cv2.dilate((bar | hand).astype(np.uint8), np.ones((11, 11), np.uint8)) > 0
+    assert (got & bar & region).sum() >= 0.95 * (bar & region).sum()
+    assert (got & hand & region).sum() >= 0.9 * (hand & region).sum()
+    assert (got & ~near).sum() <= 0.02 * got.sum()
+
+
+def test_a_refusal_outlines_what_was_taken_for_the_hand_and_finger(refused_photo, tmp_path):
+    from flexcal.measure import measure_photo
+    img, bar, hand = refused_photo
+    m = measure_angle(img)
+    assert m.status == "failed" and "leaves the picture in 2 places" in m.reason, m.reason
+    _outlines_what_was_taken(m.outline, bar, hand)
+    # the overlay draws it, in the refusal's red, all the way round
+    ov = draw_overlay(img, m)
+    x, y = (np.clip(np.round(m.outline[:, k]).astype(int), 0, img.shape[1 - k] - 1) for k in (0, 1))
+    assert np.mean(np.abs(ov[y, x].astype(int) - img[y, x].astype(int)).max(axis=1) > 40) > 0.95
+    # read from a JPEG at half size, as `flexcal measure` reads it: in the photo's pixels
+    path = tmp_path / "refused.jpg"
+    cv2.imwrite(str(path), img, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    m, _, reduction = measure_photo(path)
+    assert reduction == 2 and m.status == "failed"
+    _outlines_what_was_taken(m.outline, bar, hand)
+    # within an ROI: in the photo's pixels too
+    region = np.zeros(bar.shape, bool)
+    region[100:, :] = True
+    m = measure_angle(img, roi=(0, 100, 1280, 860))
+    assert m.status == "failed"
+    _outlines_what_was_taken(m.outline, bar, hand, region)
+
+
+def test_an_answer_has_no_outline(reference_photo):
+    # (the arms say what was measured)
+    assert reference_photo[2].status == "ok" and reference_photo[2].outline is None
+
+
 def test_round_coloured_things_off_the_finger_are_not_markers():
     img, truth = render_finger(35.0, shape=(480, 640), rng=21, difficulty="clean")
     # three saturated discs on the background, like a poster or pen caps
@@ -1156,11 +1214,11 @@ def test_sure_readings_of_one_silhouette_that_disagree_are_refused(tmp_path):
     (89.65033768160025, 352251362, "hard", cv2.ROTATE_180, 81.6, (91.0, 93.0)),
 ])
 def test_an_unsure_answer_that_another_reading_contradicts_is_refused(angle, rng, difficulty, turn, unsure, other):
-    from flexcal.vision.angle import _measure_segmentations
+    from flexcal.vision.angle import _measure_segmentations, _segment
     img, truth = _benchmark_photo(angle, rng, difficulty, transform=lambda im: cv2.rotate(im, turn))
     # what the readings were: the unsure answer, and another reading far from it
     readings = []
-    first = _measure_segmentations(img, None, readings)
+    first = _measure_segmentations(img, _segment(img), readings)
     assert first.status == "low_confidence" and abs(first.angle_deg - unsure) < 0.5, (first.angle_deg, first.reason)
     assert abs(first.angle_deg - truth.angle_deg) > 5
     assert any(other[0] < r.angle_deg < other[1] for r in readings if r is not first), \
