@@ -65,8 +65,8 @@ def overlay_names(paths) -> list[str]:
 
 def measure_photo(path, *, roi=None, method="auto"):
     """Read one photo and measure it, never raising for what the file holds: (the
-    ``AngleMeasurement``, its vertex and arms in the photo's pixels; the image as read,
-    None when unreadable; the JPEG decode reduction it was read at).
+    ``AngleMeasurement``, its vertex, arms and a refusal's outline in the photo's pixels;
+    the image as read, None when unreadable; the JPEG decode reduction it was read at).
 
     A JPEG is decoded reduced when it stays at least the working resolution
     (``_reduction``): ``measure_angle`` would shrink it to that anyway. The measurement's
@@ -78,7 +78,7 @@ def measure_photo(path, *, roi=None, method="auto"):
     if img is None:
         return failed(why, method), None, red
     try:
-        m = measure_angle(img, roi=None if roi is None else roi, method=method)
+        m = measure_angle(img, roi=roi, method=method)
     except ValueError as e:  # an ROI that does not fit this photo
         m = failed(str(e), method)
     except Exception as e:  # a bug must not take the batch down; the row says what happened
@@ -112,7 +112,7 @@ def unsure_lines(angles: pd.DataFrame, table, limit: int = 10) -> list[str]:
     """Lines for the terminal after a batch: each photo not measured (failed) or measured
     with a doubt (low_confidence), with the reason, which names what to change; the
     first ``limit`` of them in the table's order, then how many more ``table`` (the
-    angles table's path) holds. None when every photo was measured sure."""
+    angles table's path) holds. No lines when every photo was measured sure."""
     rows = angles[angles["status"] != "ok"]
     if rows.empty:
         return []

@@ -690,7 +690,8 @@ def _measure_contour(bgr, segmented=None):
         # what was taken for the hand and finger, for the overlay: most refusals say what
         # is wrong with it (a strip of the finger, two fingers as one, a poster joined)
         contours, _ = cv2.findContours(seg.mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-        m.outline = max(contours, key=len).reshape(-1, 2).astype(float) / f
+        if contours:
+            m.outline = max(contours, key=len).reshape(-1, 2).astype(float) / f
     return m
 
 
