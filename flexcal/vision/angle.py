@@ -408,7 +408,7 @@ BAND_FLANK_W = 0.5       # ... with the midline over this many widths before and
 BAND_MIDLINE_W = 0.05    # ... through it, within this many finger widths
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
-FINER_COLOURS = (9, 12)  # colour clusters when an unsure photo is segmented again, in turn (six at first)
+FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
 TIP_CONTACT = 0.8        # a fingertip touches the picture's edge over less than this share of its thickness there
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
 ELSEWHERE = 0.15         # ... the first was no finger: joined to something, or a thin strip (then at most this
@@ -710,14 +710,10 @@ def _measure_segmentations(bgr, segmented, readings):
         return m
     # How many colours the picture holds is a guess (six clusters); with a cluttered
     # wall, skin can share one with a poster, or the finger's lit rim one with the wall.
-    # An unsure photo is segmented again in finer colours, nine clusters, then twelve (a
-    # wall with five posters of their own colours, a platform, the tape and the skin can
-    # take more than nine: 2026 realistic 95 turned by 90 deg, a dark finger over a black
-    # platform, refused in six and nine colours, 54.1 deg for 54.6 in twelve); a sure
-    # answer counts if that silhouette mostly agrees with the first (finer colours may
-    # trim what was joined to the finger or give back its rim; a silhouette mostly
-    # elsewhere is another guess against a first that may be the finger, cut short or
-    # doubled). When the first was
+    # An unsure photo is segmented again in finer colours; a sure answer counts if that
+    # silhouette mostly agrees with the first (finer colours may trim what was joined
+    # to the finger or give back its rim; a silhouette mostly elsewhere is another guess
+    # against a first that may be the finger, cut short or doubled). When the first was
     # no hand and finger (``m.details["no_finger"]``) there is no first guess: with
     # something joined to it (a poster at its tip, a fork, a second place where it leaves
     # the picture), a sure answer on the finer silhouette counts, however much smaller
@@ -735,20 +731,9 @@ def _measure_segmentations(bgr, segmented, readings):
     # when the first part was only bridged from the largest piece on the picture's edge
     # (``seg.from_stub``: nothing was finger-like), a weaker guess than a part that was
     # (2026 hard 60 on k-means draw 1: the stub's part unsure, the finer colours right).
-    for k in FINER_COLOURS:
-        m2 = _in_finer_colours(work, f, seg, m, k, first_guess, readings)
-        if m2 is not None and m2.status == "ok":
-            return m2
-    return m
-
-
-def _in_finer_colours(work, f, seg, m, k, first_guess, readings):
-    """The photo segmented again in ``k`` colours and measured, when that silhouette may
-    stand for the first (``seg``, measured unsure as ``m``; see ``_measure_segmentations``);
-    None when it may not."""
-    finer = segment_finger(work, k=k, seed=KMEANS_SEED)
+    finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
     if finer.mask is None or finer.shadow_is_finger:
-        return None
+        return m
     if first_guess:
         a, b = seg.mask > 0, finer.mask > 0
         both = np.sum(a & b)
@@ -760,8 +745,9 @@ def _in_finer_colours(work, f, seg, m, k, first_guess, readings):
                      or (rest is not None and both >= AGREE_IOU * np.sum(a)
                          and np.sum(rest & b) >= AGREE_IOU * np.sum(rest)))
         if not agree:
-            return None
-    return _measure_segmentation(work, f, finer, readings)
+            return m
+    m2 = _measure_segmentation(work, f, finer, readings)
+    return m2 if m2.status == "ok" else m
 
 
 def _with_shadow_colours(work, f, m, readings=None):
