@@ -104,7 +104,7 @@ from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.order_stats import median as _median, percentile as _percentile
 from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
-                                    segment_finger, split_at_inner_edge)
+                                    outer_outline, segment_finger, split_at_inner_edge)
 
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
@@ -235,10 +235,9 @@ def _resample(chain, step=1.0):
 def _outline_chains(mask):
     """The two sides of the silhouette, each from the fingertip to the picture's edge,
     and in how many places it leaves the picture (``_free_stretches``)."""
-    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    if not cs:
+    c = outer_outline(mask)
+    if c is None:
         return None, "the silhouette has no outline"
-    c = max(cs, key=len).reshape(-1, 2).astype(float)
     starts, lengths, exits = _free_stretches(c, mask)
     if lengths is None:
         return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
@@ -677,7 +676,7 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 def _measure_contour(bgr, segmented=None):
     segmented = segmented if segmented is not None else _segment(bgr)
     readings = []
-    m = _measure_segmentations(bgr, segmented, readings)
+    m = _measure_segmentations(segmented, readings)
     # An unsure answer that another reading of the photo contradicts (another silhouette
     # of it, sure or not) is a guess between them: refused (held-out 80000 realistic 90
     # turned by 90 deg: 16.3 deg for 6.5 at low contrast, where the forearm's colours and
@@ -689,13 +688,12 @@ def _measure_contour(bgr, segmented=None):
     if not m and seg.mask is not None:
         # what was taken for the hand and finger, for the overlay: most refusals say what
         # is wrong with it (a strip of the finger, two fingers as one, a poster joined)
-        contours, _ = cv2.findContours(seg.mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-        if contours:
-            m.outline = max(contours, key=len).reshape(-1, 2).astype(float) / f
+        outline = outer_outline(seg.mask)
+        m.outline = None if outline is None else outline / f
     return m
 
 
-def _measure_segmentations(bgr, segmented, readings):
+def _measure_segmentations(segmented, readings):
     """``_measure_contour``'s search over the photo's segmentations; the silhouettes'
     measurements are appended to ``readings`` (``_measure_segmentation``)."""
     work, f, seg = segmented
@@ -1098,10 +1096,8 @@ def _outer_side_parted(kept, removed, m, f) -> bool:
 def _picture_exits(mask) -> int:
     """In how many places the silhouette's outline leaves the picture (long stretches of
     outline between them); a hand and finger leave it in one, where the forearm is cut."""
-    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    if not cs:
-        return 0
-    return _free_stretches(max(cs, key=len).reshape(-1, 2), mask)[2]
+    c = outer_outline(mask)
+    return 0 if c is None else _free_stretches(c, mask)[2]
 
 
 def _exit_count(lengths) -> int:

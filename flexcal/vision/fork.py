@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 from skimage.morphology import skeletonize
 
-from flexcal.vision.segment import border_pixels, box
+from flexcal.vision.segment import border_pixels, box, outer_outline
 
 FORK_WIDTHS = 1.5        # a free branch of the silhouette longer than this many finger widths is a limb
 FINGER_SEED_W = (1.0, 2.5)  # each finger of a fork is seeded along its outline this far from its tip (widths)
@@ -63,8 +63,7 @@ def fork_seeds(mask, width_px, ends) -> tuple[list[np.ndarray], np.ndarray] | No
     long branches end freely (``ends``: ``free_branch_ends`` of the silhouette)."""
     if len(ends) != 2:
         return None
-    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    pts = max(cs, key=len).reshape(-1, 2).astype(float)
+    pts = outer_outline(mask)
     on_edge = border_pixels(mask.shape)[pts[:, 1].astype(int), pts[:, 0].astype(int)]
     if not on_edge.any():
         return None

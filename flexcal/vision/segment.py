@@ -181,6 +181,13 @@ def border_pixels(shape):
     return m
 
 
+def outer_outline(mask) -> np.ndarray | None:
+    """The silhouette's outer outline: its longest external contour, every pixel of it,
+    as (N, 2) float (x, y); None when the mask is empty."""
+    cs, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    return max(cs, key=len).reshape(-1, 2).astype(float) if cs else None
+
+
 def box(mask, margin=1):
     """The bounding box of ``mask``'s non-zero pixels widened by ``margin`` pixels on each
     side (within the picture), as a pair of slices.

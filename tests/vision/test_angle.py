@@ -1218,7 +1218,7 @@ def test_an_unsure_answer_that_another_reading_contradicts_is_refused(angle, rng
     img, truth = _benchmark_photo(angle, rng, difficulty, transform=lambda im: cv2.rotate(im, turn))
     # what the readings were: the unsure answer, and another reading far from it
     readings = []
-    first = _measure_segmentations(img, _segment(img), readings)
+    first = _measure_segmentations(_segment(img), readings)
     assert first.status == "low_confidence" and abs(first.angle_deg - unsure) < 0.5, (first.angle_deg, first.reason)
     assert abs(first.angle_deg - truth.angle_deg) > 5
     assert any(other[0] < r.angle_deg < other[1] for r in readings if r is not first), \
