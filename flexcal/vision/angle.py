@@ -745,7 +745,7 @@ def _measure_segmentations(segmented, readings):
         if not agree:
             return m
     m2 = _measure_segmentation(work, f, finer, readings)
-    return m2 if m2.status == "ok" else m
+    return _via(m2, f"{FINER_COLOURS} colours") if m2.status == "ok" else m
 
 
 def _with_shadow_colours(work, f, m, readings=None):
@@ -777,13 +777,21 @@ def _with_shadow_colours(work, f, m, readings=None):
     if m2.status != "ok":
         return m, False
     if m.status != "ok":
-        return m2, False
+        return _via(m2, "colours like the wall's in shadow"), False
     if abs(m.angle_deg - m2.angle_deg) > 3 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg):
         return failed(f"the silhouettes with and without the colours like the wall's in shadow give different "
                       f"bends ({m.angle_deg:.0f} and {m2.angle_deg:.0f} deg): a dark glove or skin passes for the "
                       "background in shadow; photograph against a lighter background of another colour",
                       "contour"), True
     return m, False
+
+
+def _via(m: AngleMeasurement, how: str) -> AngleMeasurement:
+    """``m``, with ``how`` its silhouette was found added in front of its ``details["via"]``
+    (none: the first silhouette of the photo's first segmentation)."""
+    inner = m.details.get("via")
+    m.details["via"] = how if inner is None else f"{how}; {inner}"
+    return m
 
 
 def _disagreeing(m: AngleMeasurement, readings) -> AngleMeasurement | None:
@@ -828,7 +836,7 @@ def _measure_segmentation(work, f, seg, readings=None):
         straight = not np.isnan(m.angle_deg) and m.details.get("kink_hand_deg", np.inf) <= KINK_TOL_DEG[1]
         agrees = not straight or abs(m2.angle_deg - m.angle_deg) <= 2 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg)
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees:
-            m = m2
+            m = _via(m2, "knuckle sought further")
         elif m2.status == "ok":
             sure.append(m2)
     # The silhouette may hold more than hand and finger (a box or poster of another
@@ -864,7 +872,7 @@ def _measure_segmentation(work, f, seg, readings=None):
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     alt_cut = seg.cut_off_from(alt, alt_cut_off)
-                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut)
+                    m2 = _via(_measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut), "forearm's colours")
                     readings.append(m2)
                     if m2.status == "ok" and wf is not None and _rims_lost(seg.mask, wf, m2, f):
                         # the rebuilt finger's core set the width, too small: measured again
@@ -874,6 +882,7 @@ def _measure_segmentation(work, f, seg, readings=None):
                         # realistic 59 upside down and mirrored, the sensor's strip along
                         # the hand's side joined: refused, now 75.1 deg for 74.9)
                         m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut, finger_width=wf * f)
+                        m2 = _via(m2, "forearm's colours, the first silhouette's finger width")
                         readings.append(m2)
                         if m2.status != "ok":
                             continue
@@ -936,8 +945,7 @@ def _with_width_from_window(work, f, seg, cut_off, first):
                             finger_width=window / TYPICAL_WINDOW_WIDTH)
     if m.status != "ok":
         return None
-    m.details.update(finger_width_from_window=True)
-    return m
+    return _via(m, "the finger's width from its window")
 
 
 def _rims_lost(mask, wf_mask, m, f) -> bool:
@@ -1038,8 +1046,7 @@ def _measure_split(work, f, seg, fork=None):
         return None
     m = min(sure, key=lambda m: m.angle_unc_deg)
     m.angle_unc_deg = float(np.hypot(m.angle_unc_deg, UNC_PARTED_DEG))
-    m.details.update(parted_from_another_finger=True)
-    return m
+    return _via(m, "parted from another finger")
 
 
 def _share_within_bend(region, m, f) -> float:

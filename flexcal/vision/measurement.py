@@ -33,6 +33,8 @@ class AngleMeasurement:
     vertex: tuple = (float("nan"), float("nan"))
     proximal: Arm | None = None
     distal: Arm | None = None
+    # the method's own figures (finger width, knuckle place, taper, ...) and, for an answer
+    # not from the photo's first silhouette, how its silhouette was found ("via")
     details: dict = field(default_factory=dict)
     # a refusal's silhouette: the outline (N, 2: x, y) of what was taken for the hand and
     # finger, for the overlay to show what went wrong; None when there was none

@@ -27,7 +27,7 @@ def test_the_finger_in_front_of_a_fork_is_measured_not_the_one_behind():
     work, f, seg = _segment(img)
     assert "forks" in _measure_silhouette(work, f, seg.mask, seg.contrast).reason
     m = measure_angle(img)
-    assert m.status == "ok" and m.details["parted_from_another_finger"], m.reason
+    assert m.status == "ok" and m.details["via"] == "parted from another finger", m.reason
     assert abs(m.angle_deg - 70.86599398862706) <= 2 * m.angle_unc_deg, (m.angle_deg, m.angle_unc_deg)
     assert m.angle_unc_deg >= 2.0      # the parting's own uncertainty is in it
 
