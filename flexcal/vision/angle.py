@@ -408,6 +408,7 @@ BAND_MIDLINE_W = 0.05    # ... through it, within this many finger widths
 MAX_OUTLIERS = 0.3       # more of an arm's edge points off its line than this lowers the confidence (unless the
                          # outline itself, not the skin's edge found under a layer, has no more: then that is taken)
 FINER_COLOURS = 9        # colour clusters when an unsure photo is segmented again (six at first)
+OTHER_DRAWS = 2          # a refused photo is measured on this many other draws of its colour clusters
 TIP_CONTACT = 0.8        # a fingertip touches the picture's edge over less than this share of its thickness there
 AGREE_IOU = 0.85         # ... its silhouette must overlap the first this much (intersection over union), unless
 ELSEWHERE = 0.15         # ... the first was no finger: joined to something, or a thin strip (then at most this
@@ -654,12 +655,13 @@ def _intersect(p1, d1, p2, d2):
     return p1 + t[0] * d1
 
 
-def _segment(bgr):
-    """(working image, its scale to the input, Segmentation)."""
+def _segment(bgr, seed=None):
+    """(working image, its scale to the input, Segmentation), the colours clustered
+    from the random start ``seed`` (None: ``KMEANS_SEED``)."""
     h0, w0 = bgr.shape[:2]
     f = min(1.0, WORK_SIZE / max(h0, w0))
     work = cv2.resize(bgr, (int(round(w0 * f)), int(round(h0 * f))), interpolation=cv2.INTER_AREA) if f < 1 else bgr
-    return work, f, segment_finger(work, seed=KMEANS_SEED)
+    return work, f, segment_finger(work, seed=KMEANS_SEED if seed is None else seed)
 
 
 def _on_silhouette(mask, f, points, tol_px=4) -> bool:
@@ -675,16 +677,24 @@ def _on_silhouette(mask, f, points, tol_px=4) -> bool:
 
 def _measure_contour(bgr, segmented=None):
     segmented = segmented if segmented is not None else _segment(bgr)
-    readings = []
-    m = _measure_segmentations(segmented, readings)
-    # An unsure answer that another reading of the photo contradicts (another silhouette
-    # of it, sure or not) is a guess between them: refused (held-out 80000 realistic 90
-    # turned by 90 deg: 16.3 deg for 6.5 at low contrast, where the forearm's colours and
-    # finer ones give 5.4-7.6; 50000 hard 28 upside down: 81.6 for 89.7, where a finer
-    # silhouette that lost its rims gives 92.2, sure)
-    other = _disagreeing(m, [r for r in readings if r is not m]) if m.status == "low_confidence" else None
-    m = _readings_disagree(m, other) if other is not None else m
-    _, f, seg = segmented
+    m = _measure_draw(segmented, KMEANS_SEED)
+    work, f, seg = segmented
+    if not m and OTHER_DRAWS:
+        # Where the colours' clusters fall depends on k-means' random start: a photo
+        # refused on one draw (skin sharing a cluster with a poster, the finger's lit side
+        # with the wall) can be measured on another. Taken only when OTHER_DRAWS more
+        # draws are all sure and agree (within twice their combined uncertainty): a
+        # lucky strip of the finger, a poster or two fingers as one hardly come out the
+        # same way twice.
+        sure = []
+        for seed in range(KMEANS_SEED + 1, KMEANS_SEED + 1 + OTHER_DRAWS):
+            again = _measure_draw((work, f, segment_finger(work, seed=seed)), seed)
+            if again.status != "ok" or any(abs(again.angle_deg - r.angle_deg)
+                                           > 2 * np.hypot(again.angle_unc_deg, r.angle_unc_deg) for r in sure):
+                break
+            sure.append(again)
+        else:
+            return _via(min(sure, key=lambda r: r.angle_unc_deg), "other draws of the colours")
     if not m and seg.mask is not None:
         # what was taken for the hand and finger, for the overlay: most refusals say what
         # is wrong with it (a strip of the finger, two fingers as one, a poster joined)
@@ -693,13 +703,30 @@ def _measure_contour(bgr, segmented=None):
     return m
 
 
-def _measure_segmentations(segmented, readings):
-    """``_measure_contour``'s search over the photo's segmentations; the silhouettes'
-    measurements are appended to ``readings`` (``_measure_segmentation``)."""
+def _measure_draw(segmented, seed):
+    """A measurement of the photo from one draw of its colour clusters (``segmented``,
+    from the random start ``seed``: the finer and shadow-colour segmentations use it
+    too)."""
+    readings = []
+    m = _measure_segmentations(segmented, readings, seed)
+    # An unsure answer that another reading of the photo contradicts (another silhouette
+    # of it, sure or not) is a guess between them: refused (held-out 80000 realistic 90
+    # turned by 90 deg: 16.3 deg for 6.5 at low contrast, where the forearm's colours and
+    # finer ones give 5.4-7.6; 50000 hard 28 upside down: 81.6 for 89.7, where a finer
+    # silhouette that lost its rims gives 92.2, sure)
+    other = _disagreeing(m, [r for r in readings if r is not m]) if m.status == "low_confidence" else None
+    return _readings_disagree(m, other) if other is not None else m
+
+
+def _measure_segmentations(segmented, readings, seed=None):
+    """``_measure_contour``'s search over the photo's segmentations (those made here from
+    k-means' random start ``seed``, None: ``KMEANS_SEED``); the silhouettes' measurements
+    are appended to ``readings`` (``_measure_segmentation``)."""
+    seed = KMEANS_SEED if seed is None else seed
     work, f, seg = segmented
     m = _measure_segmentation(work, f, seg, readings)
     if seg.shadow_left_out:
-        m, disagree = _with_shadow_colours(work, f, m, readings)
+        m, disagree = _with_shadow_colours(work, f, m, readings, seed)
         if disagree:
             return m
     # (a part bridged from a squat stub is no first guess: see below)
@@ -729,7 +756,7 @@ def _measure_segmentations(segmented, readings):
     # when the first part was only bridged from the largest piece on the picture's edge
     # (``seg.from_stub``: nothing was finger-like), a weaker guess than a part that was
     # (2026 hard 60 on k-means draw 1: the stub's part unsure, the finer colours right).
-    finer = segment_finger(work, k=FINER_COLOURS, seed=KMEANS_SEED)
+    finer = segment_finger(work, k=FINER_COLOURS, seed=seed)
     if finer.mask is None or finer.shadow_is_finger:
         return m
     if first_guess:
@@ -748,7 +775,7 @@ def _measure_segmentations(segmented, readings):
     return _via(m2, f"{FINER_COLOURS} colours") if m2.status == "ok" else m
 
 
-def _with_shadow_colours(work, f, m, readings=None):
+def _with_shadow_colours(work, f, m, readings=None, seed=None):
     """The measurement ``m`` of a silhouette that left out colours like the wall's (or
     platform's) in shadow, checked against the silhouette with them (``segment_finger``'s
     ``shadow_as_finger``).
@@ -761,10 +788,11 @@ def _with_shadow_colours(work, f, m, readings=None):
     sure, it is (a shadow joined to the finger would make it unsure: a blob at its tip,
     a wider finger); otherwise ``m`` stands. Returns (the measurement, whether it is a
     refusal because the two disagree: nothing else is to be tried then). The
-    silhouettes' measurements are appended to ``readings`` (a list), when given.
+    silhouettes' measurements are appended to ``readings`` (a list), when given;
+    ``seed``: k-means' random start (None: ``KMEANS_SEED``).
     """
     readings = [] if readings is None else readings
-    alt = segment_finger(work, seed=KMEANS_SEED, shadow_as_finger=True)
+    alt = segment_finger(work, seed=KMEANS_SEED if seed is None else seed, shadow_as_finger=True)
     if alt.mask is None:
         return m, False
     # (against a sure answer the silhouette alone: a check, not another search, on a

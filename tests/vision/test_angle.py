@@ -984,6 +984,37 @@ def _measured_with_kmeans_seed(angle, rng, difficulty, seed):
         vision_angle.KMEANS_SEED = default
 
 
+@pytest.mark.parametrize("angle, rng", [(4.656597514583068, 1090085296), (49.049442620569614, 1180153398)])
+def test_a_photo_refused_on_one_draw_of_its_colours_is_measured_when_two_others_agree(monkeypatch, angle, rng):
+    # held-out realistic renders (seed 40000 render 4, seed 140000 render 52, as
+    # rendered): refused on k-means' first random start; the next two starts both
+    # measure them, sure, and agree
+    from flexcal.vision import angle as vision_angle
+    work, _ = _benchmark_photo(angle, rng, "realistic")
+    monkeypatch.setattr(vision_angle, "OTHER_DRAWS", 0)
+    assert measure_angle(work).status == "failed"
+    monkeypatch.undo()
+    m = measure_angle(work)
+    assert m.status == "ok" and m.details["via"].startswith("other draws of the colours"), m.reason
+    assert abs(m.angle_deg - angle) < 1.5, m.angle_deg
+
+
+def test_a_photo_refused_on_one_draw_is_not_measured_when_the_other_draws_disagree(monkeypatch):
+    # the same photo, with the second of the other draws made to disagree: refused
+    from flexcal.vision import angle as vision_angle
+    work, _ = _benchmark_photo(4.656597514583068, 1090085296, "realistic")
+    draw = vision_angle._measure_draw
+
+    def disagreeing(segmented, seed):
+        m = draw(segmented, seed)
+        if seed == vision_angle.KMEANS_SEED + 2:
+            m.angle_deg += 3 * np.hypot(m.angle_unc_deg, m.angle_unc_deg)
+        return m
+
+    monkeypatch.setattr(vision_angle, "_measure_draw", disagreeing)
+    assert measure_angle(work).status == "failed"
+
+
 def test_the_blurred_edge_of_a_box_is_not_taken_for_a_thin_finger():
     # the benchmark's hard render 4 (seed 2026), black glove against a grey box: with
     # k-means' seed 3 the band of blur along the box's edge beside the hand, 1.2 % of the
