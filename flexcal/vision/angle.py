@@ -655,13 +655,12 @@ def _intersect(p1, d1, p2, d2):
     return p1 + t[0] * d1
 
 
-def _segment(bgr, seed=None):
-    """(working image, its scale to the input, Segmentation), the colours clustered
-    from the random start ``seed`` (None: ``KMEANS_SEED``)."""
+def _segment(bgr):
+    """(working image, its scale to the input, Segmentation)."""
     h0, w0 = bgr.shape[:2]
     f = min(1.0, WORK_SIZE / max(h0, w0))
     work = cv2.resize(bgr, (int(round(w0 * f)), int(round(h0 * f))), interpolation=cv2.INTER_AREA) if f < 1 else bgr
-    return work, f, segment_finger(work, seed=KMEANS_SEED if seed is None else seed)
+    return work, f, segment_finger(work, seed=KMEANS_SEED)
 
 
 def _on_silhouette(mask, f, points, tol_px=4) -> bool:
