@@ -688,8 +688,7 @@ def _measure_contour(bgr, segmented=None):
         sure = []
         for seed in range(KMEANS_SEED + 1, KMEANS_SEED + 1 + OTHER_DRAWS):
             again = _measure_draw((work, f, segment_finger(work, seed=seed)), seed)
-            if again.status != "ok" or any(abs(again.angle_deg - r.angle_deg)
-                                           > 2 * np.hypot(again.angle_unc_deg, r.angle_unc_deg) for r in sure):
+            if again.status != "ok" or _disagreeing(again, sure, sigmas=2.0) is not None:
                 break
             sure.append(again)
         else:
@@ -821,11 +820,11 @@ def _via(m: AngleMeasurement, how: str) -> AngleMeasurement:
     return m
 
 
-def _disagreeing(m: AngleMeasurement, readings) -> AngleMeasurement | None:
-    """The first of ``readings`` whose angle is further from ``m``'s than three times
+def _disagreeing(m: AngleMeasurement, readings, sigmas=3.0) -> AngleMeasurement | None:
+    """The first of ``readings`` whose angle is further from ``m``'s than ``sigmas`` times
     their combined uncertainty (failed readings, NaN, never are); None if none is."""
     return next((o for o in readings if abs(o.angle_deg - m.angle_deg)
-                 > 3 * np.hypot(o.angle_unc_deg, m.angle_unc_deg)), None)
+                 > sigmas * np.hypot(o.angle_unc_deg, m.angle_unc_deg)), None)
 
 
 def _readings_disagree(m: AngleMeasurement, other: AngleMeasurement) -> AngleMeasurement:
