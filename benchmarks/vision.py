@@ -2,7 +2,7 @@
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn,cluttered]
                                 [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
-                                [--glove black]
+                                [--glove black] [--palm-mm 5,10]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
@@ -28,6 +28,10 @@ and any silent error on several draws say more than one draw does. ``--markers``
 three coloured dots on every finger (proximal, joint, distal) and prints, per suite, the
 share measured from the dots (the rest from the outline). ``--glove NAME`` puts that glove
 (``flexcal.synthetic.GLOVES``) on every rendered finger, the other nuisances as drawn.
+``--palm-mm LO,HI`` gives every rendered hand a palm, thicker than the finger at the
+knuckle by LO to HI mm (drawn per render from a stream of its own, so the other
+nuisances are the presets' own): real hands have one (about 5-10 mm), the presets draw
+none, and a palm changes the silhouette where the knuckle is sought.
 """
 
 from __future__ import annotations
@@ -72,8 +76,9 @@ def diagnostics(m) -> dict:
             if isinstance(v, (int, float, str, np.integer, np.floating, np.bool_))}
 
 
-def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None):
+def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None, palm_mm=None):
     rng = np.random.default_rng(seed)
+    palm_rng = np.random.default_rng([seed, 1])     # (its own stream: the renders' other draws stay as they are)
     files, truth, params = [], [], []
     for i in range(n):
         a = float(rng.uniform(0, 90))
@@ -81,6 +86,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
             img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)), cluttered=difficulty == "cluttered")
         else:
             extra = {} if glove is None else {"glove": glove}
+            if palm_mm is not None:
+                extra["palm_mm"] = float(palm_rng.uniform(*palm_mm))
             img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty,
                                    jpeg_quality=None, markers=markers, **extra)
         # the truth's angle and vertex under their own names, beside the measured ones
@@ -106,7 +113,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
-        "suite": difficulty + (f"/{glove}" if glove else "") + (" x5" if orientations else ""), "n": len(files),
+        "suite": difficulty + (f"/{glove}" if glove else "") + ("+palm" if palm_mm else "") + (" x5" if orientations else ""),
+        "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
         "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
         "answered": answered.mean(), "gross>5": int((err > 5).sum()),
@@ -133,17 +141,30 @@ def main(argv=None):
                     help="render three coloured marker dots on every finger; prints the share measured from them")
     ap.add_argument("--glove", choices=[g for g in GLOVES if g],
                     help="put this glove on every rendered finger (the suites clean, realistic, hard)")
+    ap.add_argument("--palm-mm", metavar="LO,HI",
+                    help="give every rendered hand a palm LO to HI mm thicker than the finger at the knuckle (real "
+                         "hands: about 5,10; the presets draw none)")
     args = ap.parse_args(argv)
+    palm_mm = None
+    if args.palm_mm is not None:
+        try:
+            palm_mm = tuple(float(v) for v in args.palm_mm.split(","))
+            ok = len(palm_mm) == 2 and 0 <= palm_mm[0] <= palm_mm[1] <= 40
+        except ValueError:
+            ok = False
+        if not ok:
+            ap.error(f"--palm-mm: expected LO,HI in mm with 0 <= LO <= HI <= 40, e.g. 5,10; got {args.palm_mm!r}")
     vision_angle.KMEANS_SEED = args.kmeans_seed
     details = []
     w, h = (int(v) for v in args.size.split("x"))
     suites = (args.suites.split(",") if args.suites
-              else [s for s in SUITES if not ((args.markers or args.glove) and s in DRAWN)])
+              else [s for s in SUITES if not ((args.markers or args.glove or palm_mm) and s in DRAWN)])
     for suite in suites:       # every suite checked before the first is run
         if suite not in SUITES:
             ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
         for flag, what in ((args.markers, "--markers: the {} suite has no marker dots"),
-                           (args.glove, "--glove: the {} suite is drawn, not rendered with a glove")):
+                           (args.glove, "--glove: the {} suite is drawn, not rendered with a glove"),
+                           (palm_mm, "--palm-mm: the {} suite is drawn, not rendered with a palm")):
             if flag and suite in DRAWN:
                 ap.error(what.format(suite) + "; choose from clean, realistic, hard")
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}"
@@ -154,7 +175,7 @@ def main(argv=None):
         for suite in suites:
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
             r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers,
-                          args.glove)
+                          args.glove, palm_mm)
             print(f"{r['suite']:<16} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}"
                   + (f"   from the dots: {r['by markers']:.0%}" if args.markers else ""), flush=True)

@@ -45,6 +45,32 @@ def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_pat
     assert "clean" not in run.stdout
 
 
+
+def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(tmp_path):
+    out = tmp_path / "results.csv"
+    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "3", "--size", "640x480", "--suites", "clean",
+                          "--palm-mm", "5,10", "--details", str(out)], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "clean+palm" in run.stdout
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    palms = [float(r["palm_mm"]) for r in rows]
+    assert len(palms) == 3 and all(5 <= p <= 10 for p in palms) and len(set(palms)) == 3
+    # the other nuisances are the preset's own: the same as without a palm
+    plain = tmp_path / "plain.csv"
+    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "3", "--size", "640x480", "--suites", "clean",
+                          "--details", str(plain)], capture_output=True, text=True, timeout=300)
+    with open(plain, newline="") as fh:
+        without = list(csv.DictReader(fh))
+    assert [float(r["palm_mm"]) for r in without] == [0, 0, 0]
+    for a, b in zip(rows, without):
+        assert (a["true_angle_deg"], a["skin_tone"], a["roll_deg"]) == (b["true_angle_deg"], b["skin_tone"], b["roll_deg"])
+    for bad in ("5", "10,5", "a,b"):
+        run = subprocess.run([sys.executable, str(BENCHMARK), "--palm-mm", bad], capture_output=True, text=True,
+                             timeout=300)
+        assert run.returncode == 2 and "--palm-mm" in run.stderr and "5,10" in run.stderr
+
+
 COMPARE = BENCHMARK.with_name("compare.py")
 
 
