@@ -856,12 +856,20 @@ def _measure_segmentation(work, f, seg, readings=None):
         # it), only when the two agree (within twice their combined uncertainty): arms
         # that straight put the knuckle within the range, and a search beyond it can
         # measure the hand against itself (held-out 150000 hard 10: 8.7 +- 1.6 deg for
-        # 10.6 within the range, unsure; 3.9 +- 1.5, sure, at 8.6 widths)
+        # 10.6 within the range, unsure; 3.9 +- 1.5, sure, at 8.6 widths). And when the
+        # hand's arm within the range was bent inside (the knuckle beyond the range lies in
+        # it), the bend found further must be at least that bend: a nearly straight
+        # answer there is two arms on the hand, the bend within the range unexplained
+        # (2026 hard 95 turned by 90 deg, with a palm, ``--palm-mm 5,10``: 0.2 deg for 73.5,
+        # sure, the hand's arm within the range bent by 16; right answers: 85.5 for a bend
+        # of 55 inside, 62.2 for 22)
         m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
         readings.append(m2)
-        straight = not np.isnan(m.angle_deg) and m.details.get("kink_hand_deg", np.inf) <= KINK_TOL_DEG[1]
+        kink = m.details.get("kink_hand_deg", np.nan)
+        straight = not np.isnan(m.angle_deg) and kink <= KINK_TOL_DEG[1]
         agrees = not straight or abs(m2.angle_deg - m.angle_deg) <= 2 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg)
-        if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees:
+        explains = not kink > KINK_TOL_DEG[1] or m2.angle_deg >= kink - KINK_TOL_DEG[1]
+        if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees and explains:
             m = _via(m2, "knuckle sought further")
         elif m2.status == "ok":
             sure.append(m2)
