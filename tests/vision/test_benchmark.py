@@ -30,14 +30,20 @@ def test_the_benchmark_writes_one_row_per_render_of_every_suite(tmp_path):
         assert 0 <= float(r["detail_taper_deg"]) < 12 and 4 < float(r["detail_knuckle_from_tip_widths"]) < 13, r
 
 
-def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_path):
-    out = tmp_path / "results.csv"
-    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "2", "--size", "640x480", "--suites", "clean",
-                          "--glove", "black", "--details", str(out)], capture_output=True, text=True, timeout=300)
+def _small_clean_run(tmp_path, n, *options):
+    """The benchmark over ``n`` small clean renders with ``options``: its output and rows."""
+    out = tmp_path / f"results{''.join(options)}.csv"
+    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", str(n), "--size", "640x480", "--suites", "clean",
+                          *options, "--details", str(out)], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert "clean/black" in run.stdout
     with open(out, newline="") as fh:
-        assert [r["glove"] for r in csv.DictReader(fh)] == ["black", "black"]
+        return run.stdout, list(csv.DictReader(fh))
+
+
+def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_path):
+    stdout, rows = _small_clean_run(tmp_path, 2, "--glove", "black")
+    assert "clean/black" in stdout
+    assert [r["glove"] for r in rows] == ["black", "black"]
     # a drawn suite has no glove to choose: said before anything is run
     run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "2", "--glove", "black", "--suites", "clean,drawn"],
                          capture_output=True, text=True, timeout=300)
@@ -45,23 +51,13 @@ def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_pat
     assert "clean" not in run.stdout
 
 
-
 def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(tmp_path):
-    out = tmp_path / "results.csv"
-    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "3", "--size", "640x480", "--suites", "clean",
-                          "--palm-mm", "5,10", "--details", str(out)], capture_output=True, text=True, timeout=300)
-    assert run.returncode == 0, run.stderr
-    assert "clean+palm" in run.stdout
-    with open(out, newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    stdout, rows = _small_clean_run(tmp_path, 3, "--palm-mm", "5,10")
+    assert "clean+palm" in stdout
     palms = [float(r["palm_mm"]) for r in rows]
     assert len(palms) == 3 and all(5 <= p <= 10 for p in palms) and len(set(palms)) == 3
     # the other nuisances are the preset's own: the same as without a palm
-    plain = tmp_path / "plain.csv"
-    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "3", "--size", "640x480", "--suites", "clean",
-                          "--details", str(plain)], capture_output=True, text=True, timeout=300)
-    with open(plain, newline="") as fh:
-        without = list(csv.DictReader(fh))
+    _, without = _small_clean_run(tmp_path, 3)
     assert [float(r["palm_mm"]) for r in without] == [0, 0, 0]
     for a, b in zip(rows, without):
         assert (a["true_angle_deg"], a["skin_tone"], a["roll_deg"]) == (b["true_angle_deg"], b["skin_tone"], b["roll_deg"])
