@@ -113,7 +113,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
-        "suite": difficulty + (f"/{glove}" if glove else "") + ("+palm" if palm_mm else "") + (" x5" if orientations else ""),
+        "suite": (difficulty + (f"/{glove}" if glove else "") + ("+palm" if palm_mm else "")
+                  + (" x5" if orientations else "")),
         "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
         "P95": np.percentile(err, 95) if err.size else np.nan, "max": err.max() if err.size else np.nan,
