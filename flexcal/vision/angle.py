@@ -309,6 +309,17 @@ def _arm_window(mid, s, lo, hi):
     return mid[m]
 
 
+def _with_long_unfaced(facing, s, longer):
+    """``facing`` (a flag per midline point, arclengths ``s``) with every run of points
+    that do not face across over more than ``longer`` of arclength flagged too."""
+    out = facing.copy()
+    bounds = np.flatnonzero(np.diff(np.r_[0, (~facing).astype(int), 0]))
+    for start, end in zip(bounds[::2], bounds[1::2]):
+        if s[end - 1] - s[start] > longer:
+            out[start:end] = True
+    return out
+
+
 def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.8):
     """For each candidate knuckle: how well two straight lines fit the midline, one over
     [span_lo, finger_end] and one over [hand_start, span_hi] (arclengths ``s``).
@@ -357,6 +368,8 @@ HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle toward
 HAND_FULL = 0.95         # ... starting further (as long) where the silhouette is still narrower than this share of
 HAND_FROM_MAX = 2.5      # the hand's width (a palm ending beyond the knuckle), up to this many widths from it
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
+UNFACED_W = 1.0          # ... sought again, when the finger's window holds the bend, also where the midline's pairs
+                         # do not face across over more than this many widths (longer than a tape band, BAND_LEN_W)
 PINNED_W = 0.3           # the best knuckle places all this close (widths) to the range's near end: the bend is below it
 SPAN = (3.2, 10.0)       # stretch of midline searched for the knuckle, in widths from the tip
 LONG_FINGER = (10.0, 13.0)  # the range's and the span's far ends for a finger long for its thickness
@@ -848,6 +861,16 @@ def _measure_segmentation(work, f, seg, readings=None):
     sure = []
     m = first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     readings.append(m)
+    if m.status != "ok" and m.details.get("kink_finger_deg", 0.0) > KINK_TOL_DEG[0]:
+        # The bend inside the finger's window: the knuckle may have been placed too far
+        # into the hand, where the midline has no pairs facing across (the corner of a
+        # bend far from a thick hand, the palm's pad in its inner corner); sought again
+        # over such stretches too, taken only when sure (a box or a strip joined to the
+        # silhouette leaves such stretches as well, and their midline misleads)
+        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off, unfaced=True)
+        readings.append(m2)
+        if m2.status == "ok":
+            m = _via(m2, "the bend's corner")
     if m.status != "ok" and "knuckle_from_tip_widths" in m.details:
         # A slender finger has its knuckle beyond the usual range (up to ~8.5 widths of
         # its tip's thickness): the arms found within the range then hold the bend and
@@ -1198,12 +1221,14 @@ def _free_stretches(contour, mask):
 
 
 def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None, parted=None, overlapped=True,
-                        finger_width=None):
+                        finger_width=None, unfaced=False):
     """Measure the bend on one silhouette (working resolution ``work``, scale ``f`` to the
     input); ``cut_off``: what the silhouette's finishing cut off (``segment._finish``);
     ``parted``: another finger's region parted from it (``_measure_split``), one that
     overlapped the finger along its length (``overlapped``) or joined it at the knuckle;
-    ``finger_width``: the finger's width (working pixels) instead of its tip's."""
+    ``finger_width``: the finger's width (working pixels) instead of its tip's;
+    ``unfaced``: the knuckle sought also over long stretches of midline whose pairs do not
+    face across (``_with_long_unfaced``)."""
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
@@ -1285,7 +1310,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     cands = np.arange(lo, min(hi, span_hi - 1.2 * wf), max(1.0, 0.05 * wf))
     # (the midline where its pairs face across the silhouette: a tape band's notch,
     # strayed, would pull the knuckle to the band)
-    scores = _two_line_scores(mid[facing], s[facing], span_lo, span_hi, cands - FIN_WIN[0] * wf,
+    scored = _with_long_unfaced(facing, s, UNFACED_W * wf) if unfaced else facing
+    scores = _two_line_scores(mid[scored], s[scored], span_lo, span_hi, cands - FIN_WIN[0] * wf,
                               cands + HAND_WIN[0] * wf)
     if not len(scores) or not np.isfinite(scores).any():
         return fail("could not find two straight arms in the silhouette")

@@ -534,6 +534,19 @@ def test_no_knuckle_beyond_the_range_that_bends_less_than_the_hand_arm_within_it
     m = measure_angle(img)
     assert m.status == "failed" or abs(m.angle_deg - a) < max(3.0, 2 * m.angle_unc_deg), (m.angle_deg, m.reason)
 
+
+def test_a_finger_bent_far_from_a_hand_with_a_palm_is_measured_at_its_knuckle():
+    # the benchmark's realistic render 90 of seed 2026 with a palm (``--palm-mm 5,10``):
+    # bent 84.5 deg, the palm's pad fills the bend's inner corner, whose sides do not
+    # face across for more than a finger width; without that stretch of midline the
+    # knuckle was placed a width into the hand, the bend in the finger's window: refused
+    # ("an arm is not straight (bent by 56 deg inside it)")
+    a = 84.53975250219757
+    img, _ = _benchmark_photo(a, 956506073, "realistic", palm_mm=6.869522332149889)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - a) < 2.5, (m.angle_deg, m.reason)
+    assert m.details["via"] == "the bend's corner"
+
 def test_wall_taken_in_between_the_cable_and_the_hand_is_not_a_forearm_colour():
     # the sensor's cable runs off the picture beside the hand; the closings fill the
     # strip of wall between them, so the wall lies inside the part where the arm leaves
