@@ -890,7 +890,7 @@ def _measure_segmentation(work, f, seg, readings=None):
         readings.append(m2)
         kink = m.details.get("kink_hand_deg", np.nan)
         straight = not np.isnan(m.angle_deg) and kink <= KINK_TOL_DEG[1]
-        agrees = not straight or abs(m2.angle_deg - m.angle_deg) <= 2 * np.hypot(m.angle_unc_deg, m2.angle_unc_deg)
+        agrees = not straight or _disagreeing(m2, [m], sigmas=2.0) is None
         explains = not kink > KINK_TOL_DEG[1] or m2.angle_deg >= kink - KINK_TOL_DEG[1]
         if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees and explains:
             m = _via(m2, "knuckle sought further")

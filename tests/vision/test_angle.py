@@ -522,7 +522,6 @@ def test_no_knuckle_beyond_the_range_when_the_range_gives_straight_arms():
     assert m.status == "failed" or abs(m.angle_deg - a) < max(3.0, 2 * m.angle_unc_deg), (m.angle_deg, m.reason)
 
 
-
 @pytest.mark.parametrize("turn", [lambda im: np.rot90(im, -1), np.fliplr], ids=["turned by 90 deg", "mirrored"])
 def test_no_knuckle_beyond_the_range_that_bends_less_than_the_hand_arm_within_it(turn):
     # the benchmark's hard render 95 of seed 2026 with a palm (``--palm-mm 5,10``): a
@@ -546,6 +545,7 @@ def test_a_finger_bent_far_from_a_hand_with_a_palm_is_measured_at_its_knuckle():
     m = measure_angle(img)
     assert m.status == "ok" and abs(m.angle_deg - a) < 2.5, (m.angle_deg, m.reason)
     assert m.details["via"] == "the bend's corner"
+
 
 def test_wall_taken_in_between_the_cable_and_the_hand_is_not_a_forearm_colour():
     # the sensor's cable runs off the picture beside the hand; the closings fill the
