@@ -21,10 +21,10 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    widths (an answer within the range is not sure when, with more of the hand in view,
    the midline splits into straight arms ten times better beyond it); when the best
    place is the range's near end, the bend there is the second joint's: refused; a
-   hand with a palm (at least 1.7 times as thick as the finger near its tip) and a
-   bend under 45 deg is measured again with the hand's windows from 1.4 widths beyond
-   the knuckle, past the palm's pad, which otherwise tilts the hand's arm and pulls
-   the knuckle into the hand (taken when sure);
+   hand with a palm (at least 1.7 times as thick as the finger near its tip) is
+   measured again with the hand's window from 1.4 widths beyond the knuckle, past the
+   palm's pad, which otherwise tilts the hand's arm, and, for a bend under 45 deg, the
+   knuckle search's gap too (the pad pulls the knuckle into the hand); taken when sure;
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``), or at the outline where
    only that runs straight (a dark rim, shaded as a round finger's, passes for a layer
@@ -376,7 +376,8 @@ PALM_HAND_TO_FINGER = 1.7  # a hand this many times as thick as the finger near 
 PALM_HAND_FROM = 1.4     # ... whose pad ends up to 1.3 widths beyond the knuckle: the search's gap and the hand's
                          # window then start this many widths beyond it
 PALM_SHIFT_MAX = 0.3     # ... and the knuckle moves towards the tip by at most this many widths
-PALM_MAX_BEND_DEG = 45.0  # ... for bends under this (at larger ones the wider gap lets the knuckle slide onto the finger)
+PALM_MAX_BEND_DEG = 45.0  # ... for bends under this (at larger ones the wider gap lets the knuckle slide onto the
+                         # finger: there only the hand's window starts further)
 KNUCKLE_RANGE = (4.8, 8.0)  # knuckle's distance from the tip, in finger widths (anatomy: 5.5-8.5)
 UNFACED_W = 1.0          # ... sought again, when the finger's window holds the bend, also where the midline's pairs
                          # do not face across over more than this many widths (longer than a tape band, BAND_LEN_W)
@@ -871,18 +872,19 @@ def _measure_segmentation(work, f, seg, readings=None):
     sure = []
     m = first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     readings.append(m)
-    if (m.status == "ok" and m.angle_deg < PALM_MAX_BEND_DEG
-            and m.details["hand_to_finger_width"] >= PALM_HAND_TO_FINGER):
+    if m.status == "ok" and m.details["hand_to_finger_width"] >= PALM_HAND_TO_FINGER:
         # A palm: the hand is thicker than the finger below the knuckle and its pad rounds
         # off over up to 1.3 finger widths beyond it, where the usual windows start. The
         # pad tilts the hand's arm and moves the knuckle into the hand (``--palm-mm 5,10``,
         # development seeds turned: the median signed error +0.29 | +0.22 deg). Measured
-        # again past the pad, taken when sure (the answers moved: mean error 0.52 -> 0.29
-        # | 0.45 -> 0.24 deg). Not at larger bends: there the pad fills the bend's inner
-        # corner and the wider gap lets the knuckle slide onto the finger
-        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off, palm=True)
+        # again past the pad, taken when sure (realistic with a palm, MAE 0.56 -> 0.47 |
+        # 1.06 -> 0.98 deg, nothing answered or refused anew). At larger bends only the
+        # hand's window moves (the pad fills the bend's inner corner, and a wider gap lets
+        # the knuckle slide onto the finger)
+        small = m.angle_deg < PALM_MAX_BEND_DEG
+        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off, palm="pad" if small else "hand")
         if m2.status == "ok":
-            m = first = _via(m2, "past the palm's pad")
+            m = _via(m2, "past the palm's pad")
     if m.status != "ok" and m.details.get("kink_finger_deg", 0.0) > KINK_TOL_DEG[0]:
         # The bend inside the finger's window: the knuckle may have been placed too far
         # into the hand, where the midline has no pairs facing across (the corner of a
@@ -1250,9 +1252,10 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     overlapped the finger along its length (``overlapped``) or joined it at the knuckle;
     ``finger_width``: the finger's width (working pixels) instead of its tip's;
     ``unfaced``: the knuckle sought also over long stretches of midline whose pairs do not
-    face across (``_with_long_unfaced``); ``palm``: the hand's side of the knuckle
-    search's gap and the hand's window from ``PALM_HAND_FROM`` widths beyond the knuckle,
-    past a palm's pad (``_measure_segmentation``)."""
+    face across (``_with_long_unfaced``); ``palm``: past a palm's pad
+    (``_measure_segmentation``), the hand's window (``"hand"``), or also the hand's side
+    of the knuckle search's gap (``"pad"``), from ``PALM_HAND_FROM`` widths beyond the
+    knuckle."""
     chains, why = _outline_chains(mask)
     if chains is None:
         return failed(why, "contour")
@@ -1354,12 +1357,11 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     if found is None:
         return fail("could not find two straight arms in the silhouette")
     b, best_run = found
-    hand_from = HAND_WIN[0]
-    if palm:
+    hand_from = PALM_HAND_FROM if palm else HAND_WIN[0]
+    if palm == "pad":
         # the midline steps towards the palm over its pad, which pushes the knuckle into
         # the hand (and the finger's window onto the joint's flare): sought again with the
         # pad left out, moved back towards the tip by at most PALM_SHIFT_MAX widths
-        hand_from = PALM_HAND_FROM
         again = knuckle(hand_from)
         if again is not None:
             b = float(np.clip(again[0], b - PALM_SHIFT_MAX * wf, b))
