@@ -12,11 +12,15 @@ from flexcal.vision.markers import find_markers
 SHAPE = (480, 640)
 
 
-def _clean_set(n, seed):
+def _clean_set(n, seed, bends=(0, 90), shape=SHAPE, palm_mm=None):
+    """``n`` seeded clean renders (angle, image, truth) bent within ``bends``; with
+    ``palm_mm`` (lo, hi), each hand has a palm of a thickness drawn from that range."""
     rng = np.random.default_rng(seed)
     for _ in range(n):
-        a = float(rng.uniform(0, 90))
-        img, truth = render_finger(a, shape=SHAPE, rng=int(rng.integers(2**31)), difficulty="clean")
+        a = float(rng.uniform(*bends))
+        r = int(rng.integers(2**31))
+        palm = {} if palm_mm is None else {"palm_mm": float(rng.uniform(*palm_mm))}
+        img, truth = render_finger(a, shape=shape, rng=r, difficulty="clean", **palm)
         yield a, img, truth
 
 
@@ -552,12 +556,8 @@ def test_small_bends_of_a_finger_on_a_hand_with_a_palm_are_measured_without_a_le
     # tilted the hand's arm and pushed the knuckle into the hand (this set: median error
     # 0.42 deg, every answer but two too large, by 0.42 on average); measured past the pad
     # as accurately as a hand without one (test_accuracy_on_clean_renders)
-    rng = np.random.default_rng(44)
     errors, ways = [], []
-    for _ in range(12):
-        a = float(rng.uniform(0, 45))
-        img, _ = render_finger(a, shape=SHAPE, rng=int(rng.integers(2**31)), difficulty="clean",
-                               palm_mm=float(rng.uniform(7, 10)))
+    for a, img, _ in _clean_set(12, seed=44, bends=(0, 45), palm_mm=(7, 10)):
         m = measure_angle(img)
         assert m.status != "failed", m.reason
         errors.append(m.angle_deg - a)
@@ -570,11 +570,8 @@ def test_large_bends_of_a_finger_on_a_hand_with_a_palm_have_the_hands_arm_past_i
     # bent 45-90 deg, a palm 7-10 mm thick: the hand's window, from 0.9 widths beyond the
     # knuckle, took in the end of the palm's pad (this set: mean error 0.40 deg, up to
     # 0.93); from 1.4 widths it does not
-    rng = np.random.default_rng(45)
     errors = []
-    for _ in range(16):
-        a = float(rng.uniform(45, 90))
-        img, _ = render_finger(a, rng=int(rng.integers(2**31)), difficulty="clean", palm_mm=float(rng.uniform(7, 10)))
+    for a, img, _ in _clean_set(16, seed=45, bends=(45, 90), shape=(960, 1280), palm_mm=(7, 10)):
         m = measure_angle(img)
         assert m.status != "failed" and m.details.get("via") == "past the palm's pad", (m.reason, m.details.get("via"))
         errors.append(abs(m.angle_deg - a))
