@@ -11,15 +11,18 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
 3. pair each point of one side with the nearest point of the other: the midpoints are
    the finger's and hand's midline, their distances the local width (the finger's
    width is taken near the tip; where the tip is narrower than the finger behind it,
-   e.g. a nail in the wall's colour left out, from where it reaches full width);
+   e.g. a nail in the wall's colour left out, from where it reaches full width, unless
+   the tip is a tube and the silhouette there is not: a piece joined beside the finger);
 4. a breakpoint search along the midline finds the knuckle: the point, within the
    anatomical range of 4.8 to 8 finger widths from the tip, that best splits the
    midline (where its pairs face each other across the silhouette: not in a tape
    band's notch, where they stray) into two straight arms (windows on either side
    leave out the rounded knuckle and stop short of the next joint); when that gives no
    sure answer, up to 10 widths (a slender finger), taken only if sure and beyond 8
-   widths (an answer within the range is not sure when, with more of the hand in view,
-   the midline splits into straight arms ten times better beyond it); when the best
+   widths, or anywhere when the first left the bend inside the finger's window (the
+   longer stretch of hand finds it) (an answer within the range is not sure when,
+   with more of the hand in view, the midline splits into straight arms ten times
+   better beyond it); when the best
    place is the range's near end, the bend there is the second joint's: refused; a
    hand with a palm (at least 1.7 times as thick as the finger near its tip) is
    measured again with the hand's window from 1.4 widths beyond the knuckle, past the
@@ -362,6 +365,8 @@ def _two_line_scores(mid, s, span_lo, span_hi, finger_ends, hand_starts, keep=0.
 WF_WIN, WF_ITERS = (0.8, 2.5), 4  # the finger's width: median width this many widths from the tip
 BLOB_TIP_FACING = 0.3    # ... where fewer of the pairs there face across, a blob is joined to the tip
 NARROW_TIP = (4.0, 1.3)  # the silhouette up to 4 widths from the tip 1.3x wider: the tip is cut (nail)
+NARROW_TIP_TUBE = 0.5    # ... unless the tip is a tube (this share of its pairs face across) and
+NARROW_TIP_SHAFT = 0.2   # ... under this share face across in the wider part (no tube: a piece beside the finger)
 FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towards the tip
 FIN_EDGE_WIN = (1.0, 2.75)  # the finger's edges are followed this far, if they run straight
 FIN_EDGE_NEAR = 0.6      # ... from this close to the knuckle when a band hides most of the window
@@ -643,12 +648,21 @@ def _tip_width(width, s, facing):
     wf, tip_facing = _finger_width(width, s, facing, float(_percentile(width[s > 0.05 * s[-1]], 30)))
     # A fingertip narrower than the finger behind it over more than a width (the nail,
     # in the wall's colour, left out of the silhouette) makes a fixed point of its own:
-    # then the width is taken from where the silhouette reaches the finger's thickness.
+    # then the width is taken from where the silhouette reaches the finger's thickness,
+    # unless the narrow tip is a tube (most of its pairs face across) and the wider part
+    # is none (hardly any face across): the finger beyond a nail is a tube as its tip
+    # is, while a piece joined beside the finger widens the silhouette with an outline
+    # that does not face the finger's (5000 realistic 80 with a palm: a card behind the
+    # finger, joined over most of its length, taken for its shaft, where no pair faces
+    # across; the width doubled, both arms on the hand, 2-4 deg for 45.3, sure, in every
+    # orientation). (A narrow tip that faces across little itself, a blob joined to the
+    # fingertip or a poster, moves on as before, and so does one frayed by a parting.)
     beyond = (s > WF_WIN[1] * wf) & (s < NARROW_TIP[0] * wf)
     if beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf:
         w2 = float(np.median(width[beyond]))
         s0 = float(s[np.argmax(width >= 0.8 * w2)])
-        wf, tip_facing = _finger_width(width, s - s0, facing, w2)
+        if tip_facing < NARROW_TIP_TUBE or np.mean(facing[beyond]) >= NARROW_TIP_SHAFT:
+            wf, tip_facing = _finger_width(width, s - s0, facing, w2)
     # A blob joined to the tip (the finger's shadow on a dark object beside it) is no
     # tube: its pairs do not face across, and its widths make a fixed point of their own
     # (or none: the window swings between it and the finger). Then the width is taken
@@ -909,14 +923,22 @@ def _measure_segmentation(work, f, seg, readings=None):
         # answer there is two arms on the hand, the bend within the range unexplained
         # (2026 hard 95 turned by 90 deg, with a palm, ``--palm-mm 5,10``: 0.2 deg for 73.5,
         # sure, the hand's arm within the range bent by 16; right answers: 85.5 for a bend
-        # of 55 inside, 62.2 for 22)
+        # of 55 inside, 62.2 for 22). Also taken within the range when the first was
+        # refused with the bend inside the finger's window: the longer span gives the
+        # hand's line more of the hand, and the two lines then meet at the bend that the
+        # shorter span left in the finger's window (5000 realistic 29 with a palm, the
+        # second joint bent 20 deg, tape either side of the knuckle: refused, "bent by 28
+        # deg inside"; sought further, 66.0 deg for 65.5 at 5.85 widths, where the usual
+        # search put the knuckle at 6.97)
         m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, long_finger=True, cut_off=cut_off)
         readings.append(m2)
         kink = m.details.get("kink_hand_deg", np.nan)
         straight = not np.isnan(m.angle_deg) and kink <= KINK_TOL_DEG[1]
         agrees = not straight or _disagreeing(m2, [m], sigmas=2.0) is None
         explains = not kink > KINK_TOL_DEG[1] or m2.angle_deg >= kink - KINK_TOL_DEG[1]
-        if m2.status == "ok" and m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] and agrees and explains:
+        bent_finger = m.details.get("kink_finger_deg", 0.0) > KINK_TOL_DEG[0]
+        further = m2.status == "ok" and (m2.details["knuckle_from_tip_widths"] > KNUCKLE_RANGE[1] or bent_finger)
+        if further and agrees and explains:
             m = _via(m2, "knuckle sought further")
         elif m2.status == "ok":
             sure.append(m2)
