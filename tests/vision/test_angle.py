@@ -556,7 +556,7 @@ def test_a_finger_bent_far_from_a_hand_with_a_palm_is_measured_at_its_knuckle():
     (45.333898540100385, 1196819312, 8.958031954682623, lambda im: np.rot90(im, -1)),
     (50.345263982199505, 1397197815, 0.0, np.fliplr),
 ], ids=["a card beside the finger", "the same turned by 90 deg", "a tip joined to its shadow, mirrored"])
-def test_the_fingers_width_beyond_a_narrow_tip_is_a_tubes(a, rng, palm_mm, turn):
+def test_the_finger_width_is_taken_past_a_narrow_tip_but_not_from_a_piece_beside_it(a, rng, palm_mm, turn):
     # Where the silhouette is 1.3x wider 2.5-4 widths from the tip than near it, the tip
     # is taken to be cut (a nail left out) and the width is taken further on; but not
     # from a tube onto no tube. The benchmark's realistic render 80 of seed 5000 with a
