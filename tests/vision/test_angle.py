@@ -570,19 +570,17 @@ def test_the_finger_width_is_taken_past_a_narrow_tip_but_not_from_a_piece_beside
     assert m.status == "ok" and abs(m.angle_deg - a) < 1.5, (m.angle_deg, m.reason)
 
 
-def test_a_knuckle_the_usual_span_leaves_in_the_fingers_window_is_found_on_a_longer_one():
-    # the benchmark's realistic render 29 of seed 5000 with a palm (``--palm-mm 5,10``):
-    # bent 65.5 deg, the second joint 20 deg, tape on the finger by the knuckle. The usual
-    # search placed the knuckle a width into the hand and left the bend in the finger's
-    # window: refused ("an arm is not straight (bent by 28 deg inside it)"); the search
-    # over the longer span finds it within the usual range, sure, and was not taken
-    # because it was not beyond that range
-    a = 65.48098013202492
-    img, _ = _benchmark_photo(a, 707958244, "realistic", palm_mm=7.67151325068046)
+def test_no_knuckle_sought_further_within_the_range_at_a_bent_second_joint():
+    # held-out 20000 realistic render 18 turned by 270 deg: a finger bent 3.6 deg at the
+    # knuckle, its second joint bent, which lies in the finger's window of the usual
+    # search (refused: "an arm is not straight"). The search over a longer stretch of
+    # midline puts the knuckle at that joint, within the usual range, sure: 12.4 deg,
+    # when such answers were taken (tried in session 46 for a palm's knuckle left a
+    # width into the hand)
+    a = 3.6084583430784467
+    img, _ = _benchmark_photo(a, 961475815, "realistic", transform=lambda im: np.rot90(im, 1))
     m = measure_angle(img)
-    assert m.status == "ok" and abs(m.angle_deg - a) < 1.5, (m.angle_deg, m.reason)
-    assert m.details["via"] == "knuckle sought further"
-    assert m.details["knuckle_from_tip_widths"] <= 8.0
+    assert m.status == "failed" or abs(m.angle_deg - a) < max(3.0, 2 * m.angle_unc_deg), (m.angle_deg, m.reason)
 
 
 def test_small_bends_of_a_finger_on_a_hand_with_a_palm_are_measured_without_a_lean():
