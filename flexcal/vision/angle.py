@@ -656,11 +656,11 @@ def _tip_width(width, s, facing):
     # orientation). (A narrow tip that faces across little itself, a blob joined to the
     # fingertip or a poster, moves on as before, and so does one frayed by a parting.)
     beyond = (s > WF_WIN[1] * wf) & (s < NARROW_TIP[0] * wf)
-    if beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf:
+    if (beyond.sum() >= 5 and np.median(width[beyond]) > NARROW_TIP[1] * wf
+            and (tip_facing < NARROW_TIP_TUBE or np.mean(facing[beyond]) >= NARROW_TIP_SHAFT)):
         w2 = float(np.median(width[beyond]))
         s0 = float(s[np.argmax(width >= 0.8 * w2)])
-        if tip_facing < NARROW_TIP_TUBE or np.mean(facing[beyond]) >= NARROW_TIP_SHAFT:
-            wf, tip_facing = _finger_width(width, s - s0, facing, w2)
+        wf, tip_facing = _finger_width(width, s - s0, facing, w2)
     # A blob joined to the tip (the finger's shadow on a dark object beside it) is no
     # tube: its pairs do not face across, and its widths make a fixed point of their own
     # (or none: the window swings between it and the finger). Then the width is taken
