@@ -28,10 +28,10 @@ and any silent error on several draws say more than one draw does. ``--markers``
 three coloured dots on every finger (proximal, joint, distal) and prints, per suite, the
 share measured from the dots (the rest from the outline). ``--glove NAME`` puts that glove
 (``flexcal.synthetic.GLOVES``) on every rendered finger, the other nuisances as drawn.
-``--palm-mm LO,HI`` gives every rendered hand a palm, thicker than the finger at the
-knuckle by LO to HI mm (drawn per render from a stream of its own, so the other
-nuisances are the presets' own): real hands have one (about 5-10 mm), the presets draw
-none, and a palm changes the silhouette where the knuckle is sought.
+Every preset's hand has a palm, thicker than the finger at the knuckle by 5 to 10 mm
+(real hands: about that); ``--palm-mm LO,HI`` draws it from LO to HI mm instead (per
+render from a stream of its own, so the other nuisances are the presets' own), and
+``--palm-mm 0,0`` renders hands without one, as the presets did until 2026-11-27.
 """
 
 from __future__ import annotations
@@ -113,7 +113,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     answered = np.isfinite(got)
     err = np.abs(got - truth)[answered]
     return {
-        "suite": (difficulty + (f"/{glove}" if glove else "") + ("+palm" if palm_mm else "")
+        "suite": (difficulty + (f"/{glove}" if glove else "")
+                  + (f"+palm{palm_mm[0]:g}-{palm_mm[1]:g}" if palm_mm is not None else "")
                   + (" x5" if orientations else "")),
         "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
@@ -143,8 +144,8 @@ def main(argv=None):
     ap.add_argument("--glove", choices=[g for g in GLOVES if g],
                     help="put this glove on every rendered finger (the suites clean, realistic, hard)")
     ap.add_argument("--palm-mm", metavar="LO,HI",
-                    help="give every rendered hand a palm LO to HI mm thicker than the finger at the knuckle (real "
-                         "hands: about 5,10; the presets draw none)")
+                    help="draw every rendered hand's palm LO to HI mm thicker than the finger at the knuckle, "
+                         "instead of the presets' 5 to 10 (real hands: about that); 0,0: no palm")
     args = ap.parse_args(argv)
     palm_mm = None
     if args.palm_mm is not None:
@@ -159,13 +160,13 @@ def main(argv=None):
     details = []
     w, h = (int(v) for v in args.size.split("x"))
     suites = (args.suites.split(",") if args.suites
-              else [s for s in SUITES if not ((args.markers or args.glove or palm_mm) and s in DRAWN)])
+              else [s for s in SUITES if not ((args.markers or args.glove or palm_mm is not None) and s in DRAWN)])
     for suite in suites:       # every suite checked before the first is run
         if suite not in SUITES:
             ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
         for flag, what in ((args.markers, "--markers: the {} suite has no marker dots"),
                            (args.glove, "--glove: the {} suite is drawn, not rendered with a glove"),
-                           (palm_mm, "--palm-mm: the {} suite is drawn, not rendered with a palm")):
+                           (palm_mm is not None, "--palm-mm: the {} suite is drawn, not rendered with a palm")):
             if flag and suite in DRAWN:
                 ap.error(what.format(suite) + "; choose from clean, realistic, hard")
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}"

@@ -165,6 +165,11 @@ def sample_params(difficulty: str, rng: np.random.Generator) -> RenderParams:
             tape=bool(rng.random() < 0.6), cable=bool(rng.random() < 0.8),
             other_finger=bool(rng.random() < 0.5), other_finger_deg=float(u(8, 35)),
         )
+    # A real hand seen from the side is thicker than the finger by its palm (about 5-10
+    # mm). Drawn from a stream of its own, seeded by the texture's seed, so that a render
+    # with ``palm_mm=0`` given is otherwise the same photo (its noise, drawn from ``rng``
+    # after these, included).
+    p.update(palm_mm=float(np.random.default_rng([p["texture_seed"], 1]).uniform(5, 10)))
     return RenderParams(**p)
 
 

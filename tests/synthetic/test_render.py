@@ -27,8 +27,10 @@ def _edge_distance(mask, start, direction, limit=400):
 
 @pytest.mark.parametrize("angle,roll,mirror", [(0, 0, False), (35, 20, True), (70, -30, False), (90, 160, True)])
 def test_truth_arms_run_along_the_midline_of_the_drawn_finger(angle, roll, mirror):
+    # (a hand without a palm: a palm thickens the hand on one side of its axis only, and
+    # the hand's arm, parallel to its back and flat palm, no longer runs along its midline)
     img, truth = render_finger(angle, shape=(720, 960), rng=3, roll_deg=roll, mirror=mirror, sensor=False,
-                               offset_px=(0, 0), scale=1.0, pip_deg=0.0)
+                               offset_px=(0, 0), scale=1.0, pip_deg=0.0, palm_mm=0.0)
     mask = truth.mask
     for arm in (truth.proximal_xy, truth.distal_xy):
         d = arm[-1] - arm[0]
@@ -125,6 +127,13 @@ def test_difficulty_presets_draw_valid_parameters(difficulty):
     clean = [sample_params("clean", rng) for _ in range(50)]
     assert np.mean([p.noise_sigma for p in hard]) > 3 * np.mean([p.noise_sigma for p in clean])
     assert max(abs(p.roll_deg) for p in clean) <= 3
+
+
+@pytest.mark.parametrize("difficulty", ["clean", "realistic", "hard"])
+def test_presets_give_the_hand_a_palm(difficulty):
+    # real hands are 5-10 mm thicker across the palm than the finger at the knuckle
+    palms = [sample_params(difficulty, np.random.default_rng(s)).palm_mm for s in range(40)]
+    assert all(5 <= p <= 10 for p in palms) and np.std(palms) > 1
 
 
 @pytest.mark.parametrize("kwargs,name", [

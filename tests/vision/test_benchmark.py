@@ -52,15 +52,19 @@ def test_the_benchmark_puts_the_glove_asked_for_on_every_rendered_finger(tmp_pat
 
 
 def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(tmp_path):
-    stdout, rows = _small_clean_run(tmp_path, 3, "--palm-mm", "5,10")
-    assert "clean+palm" in stdout
+    stdout, rows = _small_clean_run(tmp_path, 3, "--palm-mm", "6,7")
+    assert "clean+palm6-7" in stdout
     palms = [float(r["palm_mm"]) for r in rows]
-    assert len(palms) == 3 and all(5 <= p <= 10 for p in palms) and len(set(palms)) == 3
-    # the other nuisances are the preset's own: the same as without a palm
-    _, without = _small_clean_run(tmp_path, 3)
-    assert [float(r["palm_mm"]) for r in without] == [0, 0, 0]
-    same = ("true_angle_deg", "skin_tone", "roll_deg", "background_bgr")
-    assert [[r[k] for k in same] for r in rows] == [[r[k] for k in same] for r in without]
+    assert len(palms) == 3 and all(6 <= p <= 7 for p in palms) and len(set(palms)) == 3
+    # the presets' hands have palms of 5-10 mm; 0,0 asks for none
+    _, preset = _small_clean_run(tmp_path, 3)
+    assert all(5 <= float(r["palm_mm"]) <= 10 for r in preset)
+    stdout, without = _small_clean_run(tmp_path, 3, "--palm-mm", "0,0")
+    assert "clean+palm0-0" in stdout and [float(r["palm_mm"]) for r in without] == [0, 0, 0]
+    # the other nuisances are the preset's own, whatever the palm
+    same = ("true_angle_deg", "skin_tone", "roll_deg", "background_bgr", "noise_sigma")
+    assert [[r[k] for k in same] for r in rows] == [[r[k] for k in same] for r in preset] \
+        == [[r[k] for k in same] for r in without]
     for bad in ("5", "10,5", "a,b"):
         run = subprocess.run([sys.executable, str(BENCHMARK), "--palm-mm", bad], capture_output=True, text=True,
                              timeout=300)
