@@ -402,7 +402,9 @@ MIN_PIECE_WIDTHS = 0.5   # a piece of the silhouette in other colours than the f
 MIN_CUT_CONTRAST = 12.0  # where the forearm's colours cut the silhouette, the colour steps this much (12: weak)
 FINGER_WINDOW_WIDTH = (0.85, 1.45)  # the finger is this many times as wide in its window as near its tip (sure answers: 0.89-1.4)
 TYPICAL_WINDOW_WIDTH = 1.19  # ... and typically (median of seed 2026's realistic answers; 1.08-1.32)
-MIN_HAND_TO_FINGER = 1.1  # the hand's thickness over the finger's width near its tip, at least
+MIN_HAND_TO_FINGER = 1.3  # the hand's thickness over the finger's width near its tip, at least (renders, whose
+                         # hands have a palm: sure answers from 1.38, median 1.94; drawings from 1.2; real hands
+                         # about 2; two fingers, or a finger and an object, taken for one: hard renders 1.1-1.3)
 MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
