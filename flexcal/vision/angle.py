@@ -405,7 +405,8 @@ TYPICAL_WINDOW_WIDTH = 1.19  # ... and typically (median of seed 2026's realisti
 MIN_HAND_TO_FINGER = 1.3  # the hand's thickness over the finger's width near its tip, at least (renders, whose
                          # hands have a palm: sure answers from 1.38, median 1.94; drawings from 1.2; real hands
                          # about 2; two fingers, or a finger and an object, taken for one: hard renders 1.1-1.3)
-MAX_HAND_TO_FINGER = 2.3  # ... and at most (1.35-1.6 in the renders; a real hand seen from the side stays near 2)
+MAX_HAND_TO_FINGER = 2.3  # ... and at most (renders with a palm: sure answers up to 2.29, 99 % under 2.23; a real
+                         # hand seen from the side stays near 2)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction

@@ -452,7 +452,8 @@ def test_a_tape_band_in_the_background_colour_is_not_a_joint(seed):
     # the light tape band on a light wall leaves a notch in the silhouette inside the
     # finger's window; the midline bends there, the skin's edges do not
     angle = 30.0 + 5 * seed
-    img, _ = render_finger(angle, shape=SHAPE, rng=seed, difficulty="clean", tape=True, background_bgr=(200, 208, 212), palm_mm=NO_PALM)
+    img, _ = render_finger(angle, shape=SHAPE, rng=seed, difficulty="clean", tape=True, background_bgr=(200, 208, 212),
+                           palm_mm=NO_PALM)
     m = measure_angle(img)
     assert m.status != "failed", m.reason
     assert abs(m.angle_deg - angle) < 2.5
