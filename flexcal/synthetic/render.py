@@ -47,6 +47,7 @@ _FINGER_W = (11.0, 9.5, 8.6, 7.6, 6.6)   # half widths: knuckle, flare end, PIP,
 _FLARE_L = 14.0
 _HAND_FLAT_L = 70.0         # length behind the knuckle over which the hand's back is flat
 _SENSOR_SPAN = (-60.0, 44.0)  # path positions of the strip's ends (hand side negative)
+_PALM_MM = (5.0, 10.0)      # the presets' palms: how much thicker a real hand is there than the finger at the knuckle
 
 
 @dataclass(frozen=True)
@@ -169,7 +170,7 @@ def sample_params(difficulty: str, rng: np.random.Generator) -> RenderParams:
     # mm). Drawn from a stream of its own, seeded by the texture's seed, so that a render
     # with ``palm_mm=0`` given is otherwise the same photo (its noise, drawn from ``rng``
     # after these, included).
-    p.update(palm_mm=float(np.random.default_rng([p["texture_seed"], 1]).uniform(5, 10)))
+    p.update(palm_mm=float(np.random.default_rng([p["texture_seed"], 1]).uniform(*_PALM_MM)))
     return RenderParams(**p)
 
 
