@@ -21,7 +21,9 @@ sensor's lead, each at random.
 ``--orientations`` measures every render also turned by 90, 180 and 270 deg and
 mirrored (suites named ``clean x5`` and so on): the bend is the same, and a method that
 holds in any orientation answers them alike; k-means starts and JPEG blocks differ, so
-this also shows how much an answer hangs on the particular photo. ``--kmeans-seed``
+this also shows how much an answer hangs on the particular photo. Each suite's row then
+ends with how alike the turns were: the share of renders answered in all five photos
+or in none, and the median spread (largest answer minus smallest) of a render's answers. ``--kmeans-seed``
 measures the same photos with another random start of the colour clustering: another
 draw of colour clusters, as another photo of the scene could give; the share answered
 and any silent error on several draws say more than one draw does. ``--markers`` renders
@@ -123,7 +125,20 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
         "within2sigma": float(np.mean(err <= 2 * unc[answered])) if err.size else np.nan,
         "img/s": len(files) / dt, "details": details,
         "by markers": float(np.mean([r["method"] == "markers" for r in rows])),
+        **(turns_alike(got) if orientations else {}),
     }
+
+
+def turns_alike(got) -> dict:
+    """How alike the five photos of each render (as rendered, turned, mirrored: ``got``,
+    the answers in that order, NaN where refused) were measured: the share of renders
+    answered in all five or in none ("alike"), and the median, over renders answered at
+    least twice, of the spread (largest answer minus smallest)."""
+    per_render = np.asarray(got, float).reshape(-1, len(ORIENTATIONS))
+    answered = np.isfinite(per_render)
+    spreads = [np.ptp(a[np.isfinite(a)]) for a in per_render if np.isfinite(a).sum() >= 2]
+    return {"alike": float(np.mean(answered.all(axis=1) | ~answered.any(axis=1))),
+            "spread": float(np.median(spreads)) if spreads else float("nan")}
 
 
 def main(argv=None):
@@ -180,7 +195,9 @@ def main(argv=None):
                           args.glove, palm_mm)
             print(f"{r['suite']:<16} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}"
-                  + (f"   from the dots: {r['by markers']:.0%}" if args.markers else ""), flush=True)
+                  + (f"   from the dots: {r['by markers']:.0%}" if args.markers else "")
+                  + (f"   turns: {r['alike']:.0%} of renders answered alike, median spread {r['spread']:.2f} deg"
+                     if args.orientations else ""), flush=True)
             details += r["details"]
     if args.details:
         with open(args.details, "w", newline="") as fh:

@@ -1,7 +1,11 @@
 import csv
+import re
 import subprocess
 import sys
 from pathlib import Path
+
+import numpy as np
+import pytest
 
 BENCHMARK = Path(__file__).resolve().parents[2] / "benchmarks" / "vision.py"
 
@@ -69,6 +73,24 @@ def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(t
         run = subprocess.run([sys.executable, str(BENCHMARK), "--palm-mm", bad], capture_output=True, text=True,
                              timeout=300)
         assert run.returncode == 2 and "--palm-mm" in run.stderr and "5,10" in run.stderr
+
+
+def test_the_benchmark_says_how_alike_the_turns_of_a_render_were_measured(tmp_path):
+    # --orientations: five photos per render (as rendered, turned three ways, mirrored);
+    # the row ends with the share of renders answered in all five or in none, and the
+    # median spread of a render's answers, which the details rows must give too
+    stdout, rows = _small_clean_run(tmp_path, 3, "--orientations")
+    m = re.search(r"turns: (\d+)% of renders answered alike, median spread ([\d.]+) deg", stdout)
+    assert m, stdout
+    assert [r["orientation"] for r in rows[:5]] == ["as rendered", "r90", "r180", "r270", "mirror"]
+    assert len(rows) == 15 and len({r["true_angle_deg"] for r in rows[:5]}) == 1
+    answers = np.array([float(r["angle_deg"] or "nan") for r in rows]).reshape(3, 5)
+    answered = np.isfinite(answers)
+    alike = np.mean(answered.all(axis=1) | ~answered.any(axis=1))
+    spreads = [np.ptp(a[np.isfinite(a)]) for a in answers if np.isfinite(a).sum() >= 2]
+    assert int(m.group(1)) == round(100 * alike)
+    assert spreads and float(m.group(2)) == pytest.approx(np.median(spreads), abs=0.006)
+    assert 0 < np.median(spreads) < 5     # the same bend, measured five times
 
 
 COMPARE = BENCHMARK.with_name("compare.py")
