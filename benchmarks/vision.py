@@ -18,22 +18,23 @@ drawn is ``flexcal.synthetic.drawn``: fingers drawn another way, which the metho
 built on, to show whether it holds beyond the renderer it was developed with; cluttered
 is the same with a striped background, the middle finger behind the index and the
 sensor's lead, each at random.
-``--orientations`` measures every render also turned by 90, 180 and 270 deg and
-mirrored (suites named ``clean x5`` and so on): the bend is the same, and a method that
-holds in any orientation answers them alike; k-means starts and JPEG blocks differ, so
-this also shows how much an answer hangs on the particular photo. Each suite's row then
-ends with how alike the turns were: the share of renders answered in all five photos
-or in none, and the median spread (largest answer minus smallest) of a render's answers. ``--kmeans-seed``
-measures the same photos with another random start of the colour clustering: another
-draw of colour clusters, as another photo of the scene could give; the share answered
-and any silent error on several draws say more than one draw does. ``--markers`` renders
-three coloured dots on every finger (proximal, joint, distal) and prints, per suite, the
-share measured from the dots (the rest from the outline). ``--glove NAME`` puts that glove
-(``flexcal.synthetic.GLOVES``) on every rendered finger, the other nuisances as drawn.
-Every preset's hand has a palm, thicker than the finger at the knuckle by 5 to 10 mm
-(real hands: about that); ``--palm-mm LO,HI`` draws it from LO to HI mm instead (per
-render from a stream of its own, so the other nuisances are the presets' own), and
-``--palm-mm 0,0`` renders hands without one, as the presets did until 2026-11-27.
+``--orientations`` measures every render also turned by 90, 180 and 270 deg and mirrored
+(suites named ``clean x5`` and so on): the bend is the same, and a method that holds in
+any orientation answers them alike; k-means starts and JPEG blocks differ, so this also
+shows how much an answer hangs on the particular photo. Each suite's row then ends with
+how alike the turns were: the share of renders answered in all five photos or in none,
+and the median spread (largest answer minus smallest) of a render's answers.
+``--kmeans-seed`` measures the same photos with another random start of the colour
+clustering: another draw of colour clusters, as another photo of the scene could give;
+the share answered and any silent error on several draws say more than one draw does.
+``--markers`` renders three coloured dots on every finger (proximal, joint, distal) and
+prints, per suite, the share measured from the dots (the rest from the outline).
+``--glove NAME`` puts that glove (``flexcal.synthetic.GLOVES``) on every rendered
+finger, the other nuisances as drawn. Every preset's hand has a palm, thicker than the
+finger at the knuckle by 5 to 10 mm (real hands: about that); ``--palm-mm LO,HI`` draws
+it from LO to HI mm instead (per render from a stream of its own, so the other nuisances
+are the presets' own), and ``--palm-mm 0,0`` renders hands without one, as the presets
+did until 2026-11-27.
 """
 
 from __future__ import annotations
