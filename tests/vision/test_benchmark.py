@@ -1,10 +1,10 @@
 import csv
+import importlib.util
 import re
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 BENCHMARK = Path(__file__).resolve().parents[2] / "benchmarks" / "vision.py"
@@ -75,6 +75,23 @@ def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(t
         assert run.returncode == 2 and "--palm-mm" in run.stderr and "5,10" in run.stderr
 
 
+def _benchmark_module():
+    """benchmarks/vision.py as a module (it is a script, not part of the package)."""
+    spec = importlib.util.spec_from_file_location("vision_benchmark", BENCHMARK)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_how_alike_the_turns_were_counts_renders_and_spreads():
+    # three renders of five photos each: answered in three turns only (spread 2 deg), in
+    # none, and in all five alike (spread 0): two of three alike, median spread 1 deg
+    nan = float("nan")
+    got = [10, 11, 12, nan, nan, nan, nan, nan, nan, nan, 40, 40, 40, 40, 40]
+    figures = _benchmark_module().turns_alike(got)
+    assert figures["alike"] == pytest.approx(2 / 3) and figures["spread"] == pytest.approx(1.0)
+
+
 def test_the_benchmark_says_how_alike_the_turns_of_a_render_were_measured(tmp_path):
     # --orientations: five photos per render (as rendered, turned three ways, mirrored);
     # the row ends with the share of renders answered in all five or in none, and the
@@ -84,13 +101,10 @@ def test_the_benchmark_says_how_alike_the_turns_of_a_render_were_measured(tmp_pa
     assert m, stdout
     assert [r["orientation"] for r in rows[:5]] == ["as rendered", "r90", "r180", "r270", "mirror"]
     assert len(rows) == 15 and len({r["true_angle_deg"] for r in rows[:5]}) == 1
-    answers = np.array([float(r["angle_deg"] or "nan") for r in rows]).reshape(3, 5)
-    answered = np.isfinite(answers)
-    alike = np.mean(answered.all(axis=1) | ~answered.any(axis=1))
-    spreads = [np.ptp(a[np.isfinite(a)]) for a in answers if np.isfinite(a).sum() >= 2]
-    assert int(m.group(1)) == round(100 * alike)
-    assert spreads and float(m.group(2)) == pytest.approx(np.median(spreads), abs=0.006)
-    assert 0 < np.median(spreads) < 5     # the same bend, measured five times
+    figures = _benchmark_module().turns_alike([float(r["angle_deg"] or "nan") for r in rows])
+    assert int(m.group(1)) == round(100 * figures["alike"])
+    assert float(m.group(2)) == pytest.approx(figures["spread"], abs=0.006)
+    assert 0 < figures["spread"] < 5     # the same bend, measured five times
 
 
 COMPARE = BENCHMARK.with_name("compare.py")
