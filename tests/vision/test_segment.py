@@ -2,8 +2,8 @@ import cv2
 import numpy as np
 import pytest
 
-from flexcal.vision.segment import (_arm_radius, _largest_on_border, _loose_pieces, _pieces_in, border_pixels, close_ellipse,
-                                    split_at_inner_edge)
+from flexcal.vision.segment import (_arm_radius, _largest_on_border, _loose_pieces, _pick, _pieces_in, border_pixels,
+                                    close_ellipse, segment_finger, split_at_inner_edge)
 
 
 def _blobs(rng, shape):
@@ -163,3 +163,29 @@ def test_two_overlapping_fingers_are_parted_at_the_front_fingers_edge(seed):
     behind_only = back & ~front & ~hand
     assert np.mean(kept[front | hand]) > 0.97
     assert np.mean(kept[behind_only]) < 0.05 and np.mean(removed[behind_only]) > 0.95
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_finger_cut_into_pieces_by_bands_is_chosen_over_a_poster_once_bridged(seed):
+    # bands in the wall's colour cut the finger into pieces: the hand's piece on the
+    # border is too squat to be finger-like, and a slender poster on the picture's edge
+    # is the most finger-like part; bridged, the finger is whole again and chosen
+    rng = np.random.default_rng(seed)
+    shape = (480, 640)
+    hand, finger = _tube(shape, (-40, 300), (120, 300), 40), _tube(shape, (120, 300), (480, 330), 22)
+    poster = np.zeros(shape, np.uint8)
+    cv2.ellipse(poster, (600, 0), (28, 250), 0, 0, 360, 1, -1)
+    img = np.full(shape + (3,), 150, np.float32)
+    img[poster > 0] = (140, 110, 220)
+    img[hand | finger] = (120, 150, 205)
+    for x in (180, 300, 410):
+        band = np.zeros(shape, bool)
+        band[:, x - 9:x + 9] = True
+        img[band & (hand | finger)] = 150
+    img = cv2.GaussianBlur(img + rng.normal(0, 4, img.shape).astype(np.float32), (0, 0), 1.2)
+    seg = segment_finger(np.clip(img, 0, 255).astype(np.uint8))
+    best, comp, _ = _pick(seg.fg, border_pixels(shape))
+    unbridged = comp == best
+    assert (unbridged & (poster > 0)).sum() > 0.8 * unbridged.sum()
+    mask = seg.mask > 0
+    assert (mask & finger).sum() > 0.95 * finger.sum() and not (mask & (poster > 0)).any()
