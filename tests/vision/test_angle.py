@@ -1345,32 +1345,53 @@ def test_sure_readings_of_one_silhouette_that_disagree_are_refused(tmp_path):
     assert row["status"] == "failed" or abs(row["angle_deg"] - 14.595159612152067) < 5, row
 
 
-@pytest.mark.parametrize("other, refused", [
+_UNSURE = AngleMeasurement(angle_deg=16.3, angle_unc_deg=1.2, confidence=0.4, status="low_confidence")
+_SURE = AngleMeasurement(angle_deg=24.8, angle_unc_deg=1.7, confidence=1.0, status="ok")
+
+
+@pytest.mark.parametrize("answer, other, refused", [
     # (found on held-out 80000 realistic 90 turned by 90 deg: 16.3 deg for 6.5, unsure, at
     # low contrast, where the forearm's colours and the finer ones gave 5.4-7.6, unsure;
     # since the foreground's opening was centred all its readings are 6-8 deg)
-    (AngleMeasurement(angle_deg=6.4, angle_unc_deg=1.0, confidence=0.3, status="low_confidence"), True),
+    (_UNSURE, AngleMeasurement(angle_deg=6.4, angle_unc_deg=1.0, confidence=0.3, status="low_confidence"), True),
     # a finer silhouette that lost its rims, sure (50000 hard 28 upside down: 92.2 for an
     # unsure 81.6, not taken: it lost its rims)
-    (AngleMeasurement(angle_deg=27.0, angle_unc_deg=0.5, confidence=1.0, status="ok"), True),
-    (AngleMeasurement(angle_deg=17.0, angle_unc_deg=1.0, confidence=0.3, status="low_confidence"), False),
-    (failed("the arms are too short to fit lines to"), False),
+    (_UNSURE, AngleMeasurement(angle_deg=27.0, angle_unc_deg=0.5, confidence=1.0, status="ok"), True),
+    (_UNSURE, AngleMeasurement(angle_deg=17.0, angle_unc_deg=1.0, confidence=0.3, status="low_confidence"), False),
+    (_UNSURE, failed("the arms are too short to fit lines to"), False),
+    # a sure answer in finer colours, and a sure reading of the first silhouette far from
+    # it (2026 hard 61 turned by 270 deg on k-means' third draw: 24.8 for 20.5, and 0.9)
+    (_SURE, AngleMeasurement(angle_deg=0.9, angle_unc_deg=1.2, confidence=1.0, status="ok"), True),
+    # ... an unsure one far from it is a guess the sure answer replaces
+    (_SURE, AngleMeasurement(angle_deg=0.9, angle_unc_deg=1.2, confidence=0.3, status="low_confidence"), False),
+    (_SURE, AngleMeasurement(angle_deg=25.8, angle_unc_deg=1.6, confidence=1.0, status="ok"), False),
 ])
-def test_an_unsure_answer_that_another_reading_contradicts_is_refused(monkeypatch, other, refused):
+def test_an_answer_that_another_reading_contradicts_is_refused(monkeypatch, answer, other, refused):
     # an unsure answer is a guess; another reading of the photo (another silhouette of
-    # it, sure or not) far from it makes it a guess between them
+    # it, sure or not) far from it makes it a guess between them. A sure answer is
+    # refused only when another sure reading contradicts it
     from flexcal.vision import angle
-    unsure = AngleMeasurement(angle_deg=16.3, angle_unc_deg=1.2, confidence=0.4, status="low_confidence")
 
     def readings_of_the_photo(segmented, readings, seed=None):
-        readings += [unsure, other]
-        return unsure
+        readings += [answer, other]
+        return answer
     monkeypatch.setattr(angle, "_measure_segmentations", readings_of_the_photo)
     m = angle._measure_draw(None, angle.KMEANS_SEED)
     if refused:
         assert m.status == "failed" and "readings of the silhouette disagree" in m.reason, m.reason
     else:
-        assert m is unsure
+        assert m is answer
+
+
+def test_a_sure_answer_in_finer_colours_that_the_first_silhouette_contradicts_is_refused():
+    # the benchmark's hard render 61 of seed 2026 (its palm), turned by 270 deg: the first
+    # draw of the colours is refused (the forearm's colours 25.8 deg, the first
+    # silhouette a sure 0.9); on the third, nine colours give 24.8 for 20.5, sure, against
+    # the same 0.9, and the other draws took it
+    img, _ = _benchmark_photo(20.53638050416727, 1427695350, "hard", palm_mm=9.74729815319402,
+                              transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_COUNTERCLOCKWISE))
+    m = measure_angle(img)
+    assert m.status == "failed" and "readings of the silhouette disagree" in m.reason, (m.angle_deg, m.reason)
 
 
 @pytest.mark.parametrize("seed,angle,difficulty", [
