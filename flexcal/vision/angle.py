@@ -75,7 +75,8 @@ as well (a black glove's colours can pass for a grey wall's or platform's in sha
 leaving a strip of the glove): both sure and disagreeing, neither is taken; only the one
 with them sure, it is (``_with_shadow_colours``). An unsure answer that another
 silhouette of the photo contradicts (sure or not; more than three times their combined
-uncertainty apart) is refused: it is a guess between them.
+uncertainty apart) is refused: it is a guess between them; so is a sure answer that
+another sure reading contradicts.
 
 Another finger behind the measured one, of the same colour, joins it in the silhouette:
 the "finger" is as wide as the hand, forks, or bends most where the two part. Then the
