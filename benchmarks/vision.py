@@ -137,7 +137,7 @@ def turns_alike(got) -> dict:
     least twice, of the spread (largest answer minus smallest)."""
     per_render = np.asarray(got, float).reshape(-1, len(ORIENTATIONS))
     answered = np.isfinite(per_render)
-    spreads = [np.ptp(a[np.isfinite(a)]) for a in per_render if np.isfinite(a).sum() >= 2]
+    spreads = [np.ptp(a[ok]) for a, ok in zip(per_render, answered) if ok.sum() >= 2]
     return {"alike": float(np.mean(answered.all(axis=1) | ~answered.any(axis=1))),
             "spread": float(np.median(spreads)) if spreads else float("nan")}
 

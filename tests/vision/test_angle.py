@@ -1451,7 +1451,7 @@ def test_the_finger_behind_kept_by_a_parting_is_not_measured():
 
 def test_a_parting_on_the_outer_side_of_the_bend_is_told_from_one_along_the_finger():
     from flexcal.vision.angle import _outer_side_parted
-    from flexcal.vision.measurement import AngleMeasurement, Arm
+    from flexcal.vision.measurement import Arm
     # a bend of 60 deg at (300, 200): the hand comes from the left, the finger goes down
     # to the right; the finger's silhouette is 30 px wide
     kept = np.zeros((480, 640), np.uint8)
@@ -1637,7 +1637,7 @@ def test_a_rebuilt_finger_narrower_on_both_sides_lost_its_rims(left, right, lost
     # object cut off on one side (0 and 8 px) or a pixel of outline is no loss, nor is an
     # object across the finger (15 px past both edges: 2.5 times its width, rims never are)
     from flexcal.vision.angle import _rims_lost
-    from flexcal.vision.measurement import AngleMeasurement, Arm
+    from flexcal.vision.measurement import Arm
     first = np.zeros((200, 300), np.uint8)
     first[90 - left:110 + right, :250] = 1
     m = AngleMeasurement(distal=Arm(np.array([150.0, 100.0]), np.array([1.0, 0.0]), 40.0),
@@ -1742,7 +1742,6 @@ def test_a_black_glove_passing_for_the_platform_in_shadow_is_not_measured_as_a_s
     # also too thin for a finger, 2.2 % of the picture's long side: only the silhouette
     # with those colours is sure, and it is taken.)
     from flexcal.vision.angle import _measure_segmentation, _segment, _with_shadow_colours
-    from flexcal.vision.measurement import AngleMeasurement
     from flexcal.vision.segment import segment_finger
     img, truth = _benchmark_photo(42.02246140265424, 20958, "realistic", glove="black")
     work, f, seg = _segment(img)
