@@ -25,7 +25,8 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    hand with a palm (at least 1.7 times as thick as the finger near its tip) is
    measured again with the hand's window from 1.4 widths beyond the knuckle, past the
    palm's pad, which otherwise tilts the hand's arm, and, for a bend under 45 deg, the
-   knuckle search's gap too (the pad pulls the knuckle into the hand); taken when sure;
+   knuckle search's gap too (the pad pulls the knuckle into the hand); taken when sure
+   (so is a silhouette rebuilt in the forearm's colours, below: ``_past_palm``);
 5. straight lines fitted (robustly) to each arm's edges on both sides, at the skin's
    own edge under the sensor strip and tape (``edges.py``), or at the outline where
    only that runs straight (a dark rim, shaded as a round finger's, passes for a layer
@@ -894,19 +895,7 @@ def _measure_segmentation(work, f, seg, readings=None):
     sure = []
     m = first = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off)
     readings.append(m)
-    if m.status == "ok" and m.details["hand_to_finger_width"] >= PALM_HAND_TO_FINGER:
-        # A palm: the hand is thicker than the finger below the knuckle and its pad rounds
-        # off over up to 1.3 finger widths beyond it, where the usual windows start. The
-        # pad tilts the hand's arm and moves the knuckle into the hand (``--palm-mm 5,10``,
-        # development seeds turned: the median signed error +0.29 | +0.22 deg). Measured
-        # again past the pad, taken when sure (realistic with a palm, MAE 0.56 -> 0.47 |
-        # 1.06 -> 0.98 deg, nothing answered or refused anew). At larger bends only the
-        # hand's window moves (the pad fills the bend's inner corner, and a wider gap lets
-        # the knuckle slide onto the finger)
-        small = m.angle_deg < PALM_MAX_BEND_DEG
-        m2 = _measure_silhouette(work, f, seg.mask, seg.contrast, cut_off=cut_off, palm="pad" if small else "hand")
-        if m2.status == "ok":
-            m = _via(m2, "past the palm's pad")
+    m = _past_palm(work, f, seg.mask, seg.contrast, m, cut_off=cut_off)
     if m.status != "ok" and m.details.get("kink_finger_deg", 0.0) > KINK_TOL_DEG[0]:
         # The bend inside the finger's window: the knuckle may have been placed too far
         # into the hand, where the midline has no pairs facing across (the corner of a
@@ -978,8 +967,9 @@ def _measure_segmentation(work, f, seg, readings=None):
                     if step is not None and step < MIN_CUT_CONTRAST:
                         continue    # the colours cut the finger itself (lit from shaded), not an object off it
                     alt_cut = seg.cut_off_from(alt, alt_cut_off)
-                    m2 = _via(_measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut), "forearm's colours")
+                    m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut)
                     readings.append(m2)
+                    widths = {}
                     if m2.status == "ok" and wf is not None and _rims_lost(seg.mask, wf, m2, f):
                         # the rebuilt finger's core set the width, too small: measured again
                         # with the first silhouette's, rims and all (the knuckle is then
@@ -987,12 +977,15 @@ def _measure_segmentation(work, f, seg, readings=None):
                         # finger's and hand's widths made against it; held-out 40000
                         # realistic 59 upside down and mirrored, the sensor's strip along
                         # the hand's side joined: refused, now 75.1 deg for 74.9)
-                        m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut, finger_width=wf * f)
-                        m2 = _via(m2, "forearm's colours, the first silhouette's finger width")
+                        widths = dict(finger_width=wf * f)
+                        m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut, **widths)
                         readings.append(m2)
                         if m2.status != "ok":
                             continue
                     if m2.status == "ok":
+                        m2 = _via(_past_palm(work, f, alt, seg.contrast, m2, cut_off=alt_cut, **widths),
+                                  "forearm's colours, the first silhouette's finger width" if widths
+                                  else "forearm's colours")
                         sure.append(m2)
                         if alt.sum() > best_area:
                             best, best_area = m2, alt.sum()
@@ -1052,6 +1045,29 @@ def _with_width_from_window(work, f, seg, cut_off, first):
     if m.status != "ok":
         return None
     return _via(m, "the finger's width from its window")
+
+
+def _past_palm(work, f, mask, contrast, m, **kwargs) -> AngleMeasurement:
+    """``m``, a measurement of the silhouette ``mask`` (``_measure_silhouette``'s other
+    arguments: ``kwargs``), or, when it is sure and the hand has a palm, the silhouette
+    measured again past the palm's pad, if that is sure.
+
+    A palm: the hand is thicker than the finger below the knuckle and its pad rounds off
+    over up to 1.3 finger widths beyond it, where the usual windows start. The pad tilts
+    the hand's arm and moves the knuckle into the hand (``--palm-mm 5,10``, development
+    seeds turned: the median signed error +0.29 | +0.22 deg). At larger bends only the
+    hand's window moves (the pad fills the bend's inner corner, and a wider gap lets the
+    knuckle slide onto the finger). On the first silhouette: realistic with a palm, MAE
+    0.56 -> 0.47 | 1.06 -> 0.98 deg, nothing answered or refused anew. Silhouettes
+    rebuilt in the forearm's colours have the hand's palm too: measured once, their
+    answers leaned as the first's had (median +0.31 deg at bends over 45 deg, +0.48
+    under, realistic 2026 and 5000 turned; past the pad: +0.1).
+    """
+    if m.status != "ok" or m.details["hand_to_finger_width"] < PALM_HAND_TO_FINGER:
+        return m
+    m2 = _measure_silhouette(work, f, mask, contrast, palm="pad" if m.angle_deg < PALM_MAX_BEND_DEG else "hand",
+                             **kwargs)
+    return _via(m2, "past the palm's pad") if m2.status == "ok" else m
 
 
 def _rims_lost(mask, wf_mask, m, f) -> bool:
