@@ -969,7 +969,7 @@ def _measure_segmentation(work, f, seg, readings=None):
                     alt_cut = seg.cut_off_from(alt, alt_cut_off)
                     m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut)
                     readings.append(m2)
-                    widths = {}
+                    how, widths = "forearm's colours", {}
                     if m2.status == "ok" and wf is not None and _rims_lost(seg.mask, wf, m2, f):
                         # the rebuilt finger's core set the width, too small: measured again
                         # with the first silhouette's, rims and all (the knuckle is then
@@ -977,15 +977,14 @@ def _measure_segmentation(work, f, seg, readings=None):
                         # finger's and hand's widths made against it; held-out 40000
                         # realistic 59 upside down and mirrored, the sensor's strip along
                         # the hand's side joined: refused, now 75.1 deg for 74.9)
+                        how = "forearm's colours, the first silhouette's finger width"
                         widths = dict(finger_width=wf * f)
                         m2 = _measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut, **widths)
                         readings.append(m2)
                         if m2.status != "ok":
                             continue
                     if m2.status == "ok":
-                        m2 = _via(_past_palm(work, f, alt, seg.contrast, m2, cut_off=alt_cut, **widths),
-                                  "forearm's colours, the first silhouette's finger width" if widths
-                                  else "forearm's colours")
+                        m2 = _via(_past_palm(work, f, alt, seg.contrast, m2, cut_off=alt_cut, **widths), how)
                         sure.append(m2)
                         if alt.sum() > best_area:
                             best, best_area = m2, alt.sum()
