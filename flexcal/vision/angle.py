@@ -1479,13 +1479,17 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return _consensus_line(pts, max(STRAIGHT_PX, STRAIGHT_W * wf)) if finger else _robust_line(pts)
 
     def arms_at(bk, checks=True):
-        # finger and hand edge points inside each window, both sides
+        # finger and hand edge points inside each window, both sides: a list of the two
+        # arms, or, when an arm has too little to fit a line to, why (a string)
         res = []
         for win, sign in ((FIN_WIN, -1), (hand_window(bk), +1)):
             lo_s, hi_s = (bk - win[1] * wf, bk - win[0] * wf) if sign < 0 else (bk + win[0] * wf, bk + win[1] * wf)
+            arm = "finger" if sign < 0 else "hand"
+            where = f"{win[0]:.1f}-{win[1]:.1f} finger widths from the knuckle"
             sel = (s >= lo_s) & (s <= hi_s)
             if sel.sum() < 8:
-                return None
+                return (f"too little of the {arm} lies where its direction is measured ({where}): frame the "
+                        f"whole finger and some of the hand")
             pm = mid[sel]
             dm = _fit_line(pm)[1]
             # the outline points whose nearest midline point lies in this window; the
@@ -1506,7 +1510,9 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                     wide = (s_near >= lo_s) & (s_near <= hi_s)
                 core = (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
                 if core.sum() < 8:
-                    return None
+                    return (f"the {arm}'s edge is hidden on one side where its direction is measured ({where}: "
+                            f"{int(core.sum())} skin-edge points seen; a tape band there, or the bend's crease or "
+                            f"the palm's pad in a large bend): move tape bands off that stretch")
                 pts, outline = pts[wide], outline[wide]
                 fit = edge_line(pts, sign < 0)
                 skin_centres.append(fit[0])     # (the arm's width: at the skin's edges)
@@ -1556,8 +1562,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         return res
 
     arms = arms_at(b)
-    if arms is None:
-        return fail("the arms are too short to fit lines to")
+    if isinstance(arms, str):
+        return fail(arms)
     along = None    # outline points next to another finger parted from this silhouette
     if parted is not None:
         along = cv2.dilate(parted.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
@@ -1613,7 +1619,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     alt = []
     for db in (-KNUCKLE_SHIFT * wf, KNUCKLE_SHIFT * wf):
         r = arms_at(b + db, checks=False)
-        if r is not None:
+        if not isinstance(r, str):
             alt.append(_bend(-r[1]["d"], -r[0]["d"]))
     spread = (max(alt) - min(alt)) / 2 if len(alt) == 2 else 2.0
     stat = np.degrees(np.hypot(fin["se"], hand["se"]))
