@@ -39,7 +39,9 @@ Method ``contour`` (geometry only, no colours or shapes of a particular renderer
    the finger flares towards the knuckle and may bend again at the next joint, so a
    line through the whole window would tilt), not nearer the knuckle, where the
    phalanx's base flares into the joint (unless a tape band hides most of the window:
-   then from 0.6 widths); each arm's axis is the bisector of its two edges, so
+   then from 0.6 widths; where it leaves a side under 8 edge points within the window,
+   0.7-2 widths, that side's line is the one through its edge followed beyond it, if
+   at least 16 points); each arm's axis is the bisector of its two edges, so
    a tapered finger is measured along its middle; the bend is the angle between the
    axes, the vertex their intersection.
 
@@ -371,6 +373,7 @@ FIN_WIN = (0.7, 2.0)     # finger window, in finger widths from the knuckle towa
 FIN_EDGE_WIN = (1.0, 2.75)  # the finger's edges are followed this far, if they run straight
 FIN_EDGE_NEAR = 0.6      # ... from this close to the knuckle when a band hides most of the window
 SHAFT_SEEN = 0.8         # "most": fewer edge points than this many widths in the window on a side
+BEYOND_SEEN = 16         # ... such a side takes its edge beyond the window when it has this many points there
 UNC_SHORT_SHAFT_DEG = 1.0  # added uncertainty then (realistic renders: MAE 1.0 deg with, 0.5 without)
 STRAIGHT_PX, STRAIGHT_W = 0.6, 0.015  # an edge point is on a straight edge within the larger of these (px, widths)
 HAND_WIN = (0.9, 3.4)    # hand window, in finger widths from the knuckle towards the wrist
@@ -1495,6 +1498,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             # the outline points whose nearest midline point lies in this window; the
             # finger's edges are followed further, as far as they run straight
             edges, core_pts, skin_centres = [], [], []
+            beyond = False     # a side's edge taken from beyond the window
             # The phalanx flares into the joint over about a finger width, so the finger's
             # edges are taken from there on; when a band (tape) hides most of what is left
             # of the window on either side, also from nearer the knuckle, on both sides.
@@ -1509,10 +1513,20 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 else:
                     wide = (s_near >= lo_s) & (s_near <= hi_s)
                 core = (s_near[wide] >= lo_s) & (s_near[wide] <= hi_s)
+                if sign < 0 and core.sum() < 8 and wide.sum() >= BEYOND_SEEN:
+                    # a band over the window (or, in a large bend, the palm's pad and the
+                    # crease up to it) hides one side's edge there, but the edge is seen
+                    # where it is followed beyond the window: the line is fitted to that
+                    # and checked as any (parallel to the other side, straight, the
+                    # midline between them unbent)
+                    core = np.ones_like(core)
+                    beyond = True
                 if core.sum() < 8:
+                    followed = (f", and {int(wide.sum())} over {near_end:.1f}-{FIN_EDGE_WIN[1]:.2f}, where it is "
+                                "followed" if sign < 0 else "")
                     return (f"the {arm}'s edge is hidden on one side where its direction is measured ({where}: "
-                            f"{int(core.sum())} skin-edge points seen; a tape band there, or the bend's crease or "
-                            f"the palm's pad in a large bend): move tape bands off that stretch")
+                            f"{int(core.sum())} skin-edge points seen{followed}; a tape band there, or the bend's "
+                            "crease or the palm's pad in a large bend): move tape bands off that stretch")
                 pts, outline = pts[wide], outline[wide]
                 fit = edge_line(pts, sign < 0)
                 skin_centres.append(fit[0])     # (the arm's width: at the skin's edges)
@@ -1558,7 +1572,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
             gap = skin_centres[1] - skin_centres[0]
             width = abs(float(d_axis[0] * gap[1] - d_axis[1] * gap[0]))
             res.append(dict(c=c_axis, d=d_axis, se=se_axis, taper=taper, outliers=outlier_share,
-                            length=(hi_s - lo_s), kink=kink, near=near_end, width=width))
+                            length=(hi_s - lo_s), kink=kink, near=near_end, beyond=beyond, width=width))
         return res
 
     arms = arms_at(b)
@@ -1624,7 +1638,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     spread = (max(alt) - min(alt)) / 2 if len(alt) == 2 else 2.0
     stat = np.degrees(np.hypot(fin["se"], hand["se"]))
     # edges taken next to the knuckle (a band hid the shaft) lean with the flare there,
-    # which their residuals do not show
+    # which their residuals do not show (so are those of a side taken beyond the window:
+    # under 8 of its points in the window always take the edges from there)
     short = UNC_SHORT_SHAFT_DEG if fin["near"] < FIN_EDGE_WIN[0] else 0.0
     unc = float(np.sqrt(stat ** 2 + (0.5 * spread) ** 2 + UNC_FLOOR_DEG ** 2 + short ** 2))
     vtx = _intersect(fin["c"], fin["d"], hand["c"], hand["d"]) if angle > 4 else None
@@ -1714,7 +1729,8 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         details=dict(finger_width_px=wf * inv, tip_facing=tip_facing, knuckle_from_tip_widths=b / wf,
                      contrast=contrast, hand_to_finger_width=hand_ratio,
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
-                     finger_edges_from_widths=fin["near"], finger_window_width=window_width,
+                     finger_edges_from_widths=fin["near"], finger_edge_beyond_window=fin["beyond"],
+                     finger_window_width=window_width,
                      hand_window_from_widths=hand_lo),
     )
     return _grade(meas, reasons)
