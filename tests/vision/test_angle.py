@@ -603,6 +603,7 @@ def test_a_finger_edge_hidden_in_its_window_is_taken_beyond_it(angle, rng, palm_
     img, _ = _benchmark_photo(angle, rng, "realistic", transform=turn, palm_mm=palm_mm)
     m = measure_angle(img)
     assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5, (m.angle_deg, m.reason)
+    assert m.details["finger_edge_beyond_window"], m.details
 
 
 @pytest.mark.parametrize("turn", [None, lambda im: np.rot90(im, -1)], ids=["as rendered", "turned by 90 deg"])
