@@ -400,6 +400,30 @@ def test_consensus_line_follows_the_straight_stretch_only():
     assert abs(np.degrees(np.arctan2(d_all[1], d_all[0])) % 180 - np.degrees(np.arctan(0.1))) > err
 
 
+@pytest.mark.parametrize("step", [+0.15, -0.15])
+def test_a_band_is_found_where_the_silhouette_widens_or_narrows_on_both_sides(step):
+    # tape of the glove's colour stands off the finger (the silhouette widens); tape of
+    # another colour is left out of it, and the silhouette's closing leaves a notch
+    # across the finger (it narrows); either way on both sides alike, the midline
+    # straight through. Where something is joined to one side or bites into it, the
+    # midline moves by a quarter width or more: no band.
+    from flexcal.vision.angle import _bands
+    wf = 40.0
+    s = np.arange(0.0, 8 * wf)
+    rng = np.random.default_rng(7)
+    width = wf * (1.0 + 0.01 * rng.standard_normal(s.size))
+    on = (s >= 3 * wf) & (s < 3.5 * wf)
+    width[on] += step * wf
+    mid = np.column_stack([s, np.zeros_like(s)])
+    bands = _bands(mid, s, width, wf)
+    assert len(bands) == 1
+    lo, hi = bands[0]
+    assert lo < 3 * wf < 3.5 * wf < hi and hi - lo < 1.2 * wf
+    one_side = mid.copy()
+    one_side[on, 1] += 0.25 * wf
+    assert _bands(one_side, s, width, wf) == []
+
+
 def test_a_bent_second_joint_is_not_taken_for_the_knuckle():
     # a nearly straight knuckle (4 deg) and a second joint bent by 20 deg: the second
     # joint lies under 4.8 finger widths from the tip, too close to be the knuckle,
@@ -588,6 +612,22 @@ def test_a_finger_edge_hidden_near_the_knuckle_is_named_in_the_refusal():
     assert m.reason.startswith("the finger's edge is hidden on one side where its direction is measured (0.7-2.0 "
                                "finger widths from the knuckle"), m.reason
     assert "tape band" in m.reason and len(m.reason.splitlines()) == 1
+
+
+@pytest.mark.parametrize("angle, rng, difficulty, palm_mm, turn", [
+    (51.361735825018265, 1975632250, "realistic", 5.843292634503015, None),
+    (2.2677587159435255, 1563888019, "hard", 9.668545302958954, np.fliplr)],
+    ids=["5000 realistic 23", "20000 hard 71 mirrored"])
+def test_an_arm_whose_edges_are_far_from_parallel_is_not_measured_sure_on_its_midline(angle, rng, difficulty,
+                                                                                       palm_mm, turn):
+    # Edges over 12 deg apart are no arm's two sides; the arm's direction is then the
+    # midline's, which was the answer's check. Taken as sure, it followed a wall of the
+    # skin's colour beyond the hand cut off at a tape band (7.0 deg for 51.4) and a cable
+    # along the hand of a finger with another one at its tip (12.6 for 2.3). Refused, or
+    # answered right.
+    img, _ = _benchmark_photo(angle, rng, difficulty, transform=turn, palm_mm=palm_mm)
+    m = measure_angle(img)
+    assert m.status == "failed" or abs(m.angle_deg - angle) < 5.0, (m.angle_deg, m.status)
 
 
 @pytest.mark.parametrize("angle, rng, palm_mm, turn", [

@@ -65,7 +65,9 @@ def test_a_parallel_batch_gives_the_rows_of_one_process(tmp_path):
         paths.append(tmp_path / f"p{i}.jpg")
         cv2.imwrite(str(paths[-1]), img)
     serial = measure_files(paths, jobs=1, progress=False)
-    assert serial["angle_deg"].notna().sum() >= 4
+    # answers to compare, not only refusals (the 80 deg photo at this size is refused
+    # since an arm measured on its midline is never sure: 80.2 deg before)
+    assert serial["angle_deg"].notna().sum() >= 3
     pd.testing.assert_frame_equal(serial, measure_files(paths, jobs=2, progress=False))
 
 
