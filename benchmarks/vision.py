@@ -2,7 +2,7 @@
 
     python benchmarks/vision.py [--n 100] [--size 1280x960] [--suites clean,realistic,hard,drawn,cluttered]
                                 [--details results.csv] [--orientations] [--kmeans-seed 0] [--markers]
-                                [--glove black] [--palm-mm 5,10]
+                                [--glove black] [--palm-mm 5,10] [--tape on|off]
 
 Per suite: MAE, median, P95 and maximum absolute error over answered images (status
 ok or low_confidence), the share answered, silent gross errors (answered with an error
@@ -34,7 +34,9 @@ finger, the other nuisances as drawn. Every preset's hand has a palm, thicker th
 finger at the knuckle by 5 to 10 mm (real hands: about that); ``--palm-mm LO,HI`` draws
 it from LO to HI mm instead (per render from a stream of its own, so the other nuisances
 are the presets' own), and ``--palm-mm 0,0`` renders hands without one, as the presets
-did until 2026-11-27.
+did until 2026-11-27. ``--tape on`` puts the sensor's two tape bands (one on the finger,
+one on the back of the hand; about half the realistic renders have them) on every rendered
+finger, ``--tape off`` on none, the other nuisances as drawn: what the bands cost.
 """
 
 from __future__ import annotations
@@ -79,7 +81,8 @@ def diagnostics(m) -> dict:
             if isinstance(v, (int, float, str, np.integer, np.floating, np.bool_))}
 
 
-def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None, palm_mm=None):
+def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False, glove=None, palm_mm=None,
+              tape=None):
     rng = np.random.default_rng(seed)
     palm_rng = np.random.default_rng([seed, 1])     # (its own stream: the renders' other draws stay as they are)
     files, truth, params = [], [], []
@@ -89,6 +92,8 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
             img, t = draw_finger(a, shape=shape, rng=int(rng.integers(2**31)), cluttered=difficulty == "cluttered")
         else:
             extra = {} if glove is None else {"glove": glove}
+            if tape is not None:
+                extra["tape"] = tape
             if palm_mm is not None:
                 extra["palm_mm"] = float(palm_rng.uniform(*palm_mm))
             img, t = render_finger(a, shape=shape, rng=int(rng.integers(2**31)), difficulty=difficulty,
@@ -118,6 +123,7 @@ def run_suite(difficulty, n, shape, seed, tmp, orientations=False, markers=False
     return {
         "suite": (difficulty + (f"/{glove}" if glove else "")
                   + (f"+palm{palm_mm[0]:g}-{palm_mm[1]:g}" if palm_mm is not None else "")
+                  + ({True: "+tape", False: "-tape"}.get(tape, ""))
                   + (" x5" if orientations else "")),
         "n": len(files),
         "MAE": err.mean() if err.size else np.nan, "median": np.median(err) if err.size else np.nan,
@@ -162,6 +168,8 @@ def main(argv=None):
     ap.add_argument("--palm-mm", metavar="LO,HI",
                     help="draw every rendered hand's palm LO to HI mm thicker than the finger at the knuckle, "
                          "instead of the presets' 5 to 10 (real hands: about that); 0,0: no palm")
+    ap.add_argument("--tape", choices=["on", "off"],
+                    help="tape bands on every rendered finger, or on none (the suites clean, realistic, hard)")
     args = ap.parse_args(argv)
     palm_mm = None
     if args.palm_mm is not None:
@@ -172,17 +180,20 @@ def main(argv=None):
             ok = False
         if not ok:
             ap.error(f"--palm-mm: expected LO,HI in mm with 0 <= LO <= HI <= 40, e.g. 5,10; got {args.palm_mm!r}")
+    tape = None if args.tape is None else args.tape == "on"
     vision_angle.KMEANS_SEED = args.kmeans_seed
     details = []
     w, h = (int(v) for v in args.size.split("x"))
     suites = (args.suites.split(",") if args.suites
-              else [s for s in SUITES if not ((args.markers or args.glove or palm_mm is not None) and s in DRAWN)])
+              else [s for s in SUITES
+                    if not ((args.markers or args.glove or palm_mm is not None or tape is not None) and s in DRAWN)])
     for suite in suites:       # every suite checked before the first is run
         if suite not in SUITES:
             ap.error(f"--suites: unknown suite {suite!r}; choose from {', '.join(SUITES)}")
         for flag, what in ((args.markers, "--markers: the {} suite has no marker dots"),
                            (args.glove, "--glove: the {} suite is drawn, not rendered with a glove"),
-                           (palm_mm is not None, "--palm-mm: the {} suite is drawn, not rendered with a palm")):
+                           (palm_mm is not None, "--palm-mm: the {} suite is drawn, not rendered with a palm"),
+                           (tape is not None, "--tape: the {} suite is drawn, not rendered with tape bands")):
             if flag and suite in DRAWN:
                 ap.error(what.format(suite) + "; choose from clean, realistic, hard")
     print(f"flexcal.vision benchmark: {args.n} renders per suite at {w}x{h}, JPEG q90, seed {args.seed}"
@@ -193,7 +204,7 @@ def main(argv=None):
         for suite in suites:
             # each suite's own seed (seed, seed + 1, seed + 2), not its place in the list
             r = run_suite(suite, args.n, (h, w), args.seed + SUITES.index(suite), tmp, args.orientations, args.markers,
-                          args.glove, palm_mm)
+                          args.glove, palm_mm, tape)
             print(f"{r['suite']:<16} {r['MAE']:6.2f} {r['median']:7.2f} {r['P95']:6.2f} {r['max']:6.1f} "
                   f"{r['answered']:9.1%} {r['gross>5']:8d} {r['within2sigma']:8.1%} {r['img/s']:6.1f}"
                   + (f"   from the dots: {r['by markers']:.0%}" if args.markers else "")

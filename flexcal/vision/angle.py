@@ -1579,6 +1579,17 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 skin_mid = _skin_midline(core_pts, dm)
                 if len(skin_mid) >= 12:
                     kink = min(kink, _kink(skin_mid))
+            elif checks:
+                # A joint inside the hand's window bends both of its edges. A band across
+                # the hand left out of the silhouette on one side (tape of the wall's colour
+                # over the sensor's strip) leaves a shallow notch, which skin_edge drops from
+                # the edge, and the midline wobbles with it by a pixel or two: over windows
+                # this short, a bend of 7-9 deg (2026 realistic renders with both bands, their
+                # hand's edges bent by 1-3 deg; refused where, without the bands, they were
+                # measured). Where both edges run straight, the hand holds no joint.
+                sides_kink = [_kink(p[np.argsort(p @ dm)]) for p in core_pts if len(p) >= 12]
+                if len(sides_kink) == 2:
+                    kink = min(kink, max(sides_kink))
             # the arm's width: between its two skin edges' lines, across the axis at its centre
             gap = skin_centres[1] - skin_centres[0]
             width = abs(float(d_axis[0] * gap[1] - d_axis[1] * gap[0]))

@@ -630,6 +630,20 @@ def test_an_arm_whose_edges_are_far_from_parallel_is_not_measured_sure_on_its_mi
     assert m.status == "failed" or abs(m.angle_deg - angle) < 5.0, (m.angle_deg, m.status)
 
 
+@pytest.mark.parametrize("angle, rng, palm_mm", [
+    (51.4059126963792, 248541903, 9.776092493626257),
+    (20.83634404022309, 1203047367, 6.04387211701413)],
+    ids=["render 75", "render 0, black glove"])
+def test_a_hand_whose_edges_run_straight_is_not_bent_by_its_midline(angle, rng, palm_mm):
+    # seed 5000's realistic renders, both with the sensor's two tape bands: the hand's band,
+    # left out of the silhouette on one side, leaves a shallow notch that the edges drop
+    # but the midline follows, by a pixel or two, enough over the hand's window to read as
+    # a bend of 9-11 deg inside it. Both edges run straight: refused before, 51.5 and 21.6 deg
+    img, _ = _benchmark_photo(angle, rng, "realistic", palm_mm=palm_mm)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5, (m.angle_deg, m.reason)
+
+
 @pytest.mark.parametrize("angle, rng, palm_mm, turn", [
     (65.40992190936814, 60629099, 8.883009898794185, lambda im: np.rot90(im, -1)),
     (84.53975250219757, 956506073, 6.104877312956069, lambda im: np.rot90(im, 2))],
@@ -735,14 +749,19 @@ FOREARM_COLOURS_WITH_A_PALM = [
 def test_a_silhouette_rebuilt_in_the_forearms_colours_is_measured_past_the_palms_pad():
     # the rebuilt silhouette holds the same palm as the first: measured once, its hand's
     # arm took in the pad (these ten: mean error 0.70 deg, 3.16 at most, the five too
-    # large by 1.24 on average); past the pad, as the first silhouette is
-    errors = []
+    # large by 1.24 on average); past the pad, as the first silhouette is. (Render 23.97
+    # deg has been answered on its first silhouette since its hand's midline, wobbling
+    # at a band left out on one side, no longer bends the hand's straight edges.)
+    errors, rebuilt = [], 0
     for a, rng, palm in FOREARM_COLOURS_WITH_A_PALM:
         img, _ = _benchmark_photo(a, rng, "realistic", palm_mm=palm)
         m = measure_angle(img)
-        assert m.status == "ok" and m.details.get("via") == "forearm's colours; past the palm's pad", (
-            a, m.reason, m.details.get("via"))
+        via = m.details.get("via")
+        assert m.status == "ok" and via in ("forearm's colours; past the palm's pad", "past the palm's pad"), (
+            a, m.reason, via)
+        rebuilt += via.startswith("forearm's colours")
         errors.append(m.angle_deg - a)
+    assert rebuilt >= 9, rebuilt
     assert np.mean(np.abs(errors)) < 0.5 and max(np.abs(errors)) < 2.0, np.round(errors, 2)
 
 
@@ -972,7 +991,7 @@ def test_a_knuckle_just_beyond_the_usual_range_is_not_replaced_by_the_next_joint
 
 
 @pytest.mark.parametrize("angle, rng, via", [(3.7064964957248616, 1855444348, "forearm's colours"),
-                                             (41.84074509875122, 653852867, "9 colours")])
+                                             (41.84074509875122, 653852867, "first")])
 def test_an_unsure_photo_of_a_cluttered_wall_is_measured_on_a_rebuilt_silhouette(tmp_path, angle, rng, via,
                                                                                found_without_a_palm):
     # posters on the wall use up the six colour clusters: the finger's silhouette takes
@@ -981,7 +1000,9 @@ def test_an_unsure_photo_of_a_cluttered_wall_is_measured_on_a_rebuilt_silhouette
     # forearm's colours, tried before them, now does. In the second, the forearm's
     # colours took the hand for 3x the finger's width (before the foreground's opening
     # was centred, 2026-11-28, they measured it, and the first silhouette was refused as
-    # a bent second joint)
+    # a bent second joint); nine colours measured it (42.3 deg) until 2026-11-29, when
+    # the first silhouette's hand, whose midline had seemed bent by 6 deg between two
+    # straight edges, stopped being refused for it: 42.5 deg, sure
     _assert_measured(tmp_path, angle, rng, "realistic", tol=1.5, via=via)
 
 

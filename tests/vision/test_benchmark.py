@@ -75,6 +75,20 @@ def test_the_benchmark_gives_every_rendered_hand_a_palm_in_the_range_asked_for(t
         assert run.returncode == 2 and "--palm-mm" in run.stderr and "5,10" in run.stderr
 
 
+def test_the_benchmark_puts_tape_bands_on_every_rendered_finger_or_on_none(tmp_path):
+    # the realistic preset tapes about half its fingers; --tape on|off tapes all or none,
+    # the other nuisances as drawn (what the bands cost is the difference)
+    stdout_on, on = _small_clean_run(tmp_path, 3, "--tape", "on")
+    stdout_off, off = _small_clean_run(tmp_path, 3, "--tape", "off")
+    assert "clean+tape" in stdout_on and "clean-tape" in stdout_off
+    assert [r["tape"] for r in on] == ["True"] * 3 and [r["tape"] for r in off] == ["False"] * 3
+    same = ("true_angle_deg", "skin_tone", "roll_deg", "background_bgr", "palm_mm")
+    assert [[r[k] for k in same] for r in on] == [[r[k] for k in same] for r in off]
+    run = subprocess.run([sys.executable, str(BENCHMARK), "--n", "2", "--tape", "on", "--suites", "clean,cluttered"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 2 and "--tape" in run.stderr and "cluttered" in run.stderr
+
+
 def _benchmark_module():
     """benchmarks/vision.py as a module (it is a script, not part of the package)."""
     spec = importlib.util.spec_from_file_location("vision_benchmark", BENCHMARK)
