@@ -404,9 +404,11 @@ BEYOND_RATIO = 0.1       # arms beyond the range this much straighter (scores) t
 AGAIN_TURN_DEG = 10.0    # beyond the hand's window the midline turns this much from the hand's arm again
 AGAIN_WIDEN = 1.15       # ... where the silhouette is this much wider than in the hand's window (medians)
 AGAIN_RUN_W = 1.0        # ... over windows (AGAIN_WIN_W long, every half width) starting this many widths apart
-AGAIN_REACH_W = 3.5      # ... the first at most this many widths beyond the hand's window, the last ending a
+AGAIN_REACH_W = 5.0      # ... the first at most this many widths beyond the hand's window, the last ending a
 AGAIN_WIN_W = 1.5        # width short of the silhouette's end (renders: 0 of 1200 sure right answers; natural
-                         # hands turn up to 7 deg there, and 10-20 deg only at the picture's edge)
+                         # hands turn up to 7 deg there, and 10-20 deg only at the picture's edge; 3.5 until
+                         # 2026-11-29, when a turn from 3 widths on was cut short: 10000 hard 32 turned by 180
+                         # deg; from 3.5 to 5.0 nothing else moved on the four seeds turned)
 AGAIN_NEAR_W = 1.0       # ... or, at any width, from this close to the hand's window on to the last window
                          # (renders: right answers turn at most 6.6 deg over such a run, 828 of them)
 MAX_TAPER_DEG = 12.0     # a finger's two edges are never further from parallel than this
@@ -609,7 +611,11 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
     turn that straightens again is not (something joined along the hand: 10000
     realistic 76 upside down, 14-24 deg over 2.5 widths, then 1, measured right).
     Windows ending within a width of the silhouette's end are left out (the forearm at
-    the picture's edge turns and widens).
+    the picture's edge turns and widens). The windows reach far enough for the turn of a
+    finger taken at a third of its width (a black glove's lit strip, rebuilt in the
+    forearm's colours): its hand's window ends on the finger, and the knuckle lies 3
+    widths beyond it (10000 hard 32 turned by 180 deg: 0.8 deg for 44, sure, the turn of
+    49-51 deg seen only from 3.0 widths on, where a run to 3.5 was too short).
     """
     in_hand = (s >= b + hand[0] * wf) & (s <= b + hand[1] * wf)
     if not in_hand.any():
