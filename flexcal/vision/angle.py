@@ -1578,24 +1578,26 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 d_axis = -d_axis
             outlier_share = float(np.mean([1 - np.mean(e[4] > 0.05) for e in edges]))
             kink = _kink(pm) if checks else float("nan")   # only the knuckle's own place is checked
-            if sign < 0 and checks:
-                # a joint inside the finger's window bends both the silhouette's midline and
-                # the midline between the skin's edges; a tape band's notch or bump shifts
-                # only the first, a short or uneven stretch of skin edge only the second
-                skin_mid = _skin_midline(core_pts, dm)
-                if len(skin_mid) >= 12:
-                    kink = min(kink, _kink(skin_mid))
-            elif checks:
-                # A joint inside the hand's window bends both of its edges. A band across
-                # the hand left out of the silhouette on one side (tape of the wall's colour
-                # over the sensor's strip) leaves a shallow notch, which skin_edge drops from
-                # the edge, and the midline wobbles with it by a pixel or two: over windows
-                # this short, a bend of 7-9 deg (2026 realistic renders with both bands, their
-                # hand's edges bent by 1-3 deg; refused where, without the bands, they were
-                # measured). Where both edges run straight, the hand holds no joint.
+            if checks:
+                # A joint inside an arm's window bends both of its edges. A band left out of
+                # the silhouette on one side (tape of the wall's colour over the sensor's
+                # strip) leaves a shallow notch, which skin_edge drops from the edge, and the
+                # midline wobbles with it by a pixel or two: over windows this short, a bend
+                # of 7-9 deg (2026 realistic renders with both bands, their hand's edges bent
+                # by 1-3 deg; refused where, without the bands, they were measured); a band
+                # standing off one side near the bend's corner does the same to the finger's
+                # (2026 realistic 97 turned by 90 deg, rebuilt in the forearm's colours: 12 deg,
+                # refused, its edges straight; the first silhouette's answer, unsure, 82.3 for
+                # 86.5). Where both edges run straight, the arm holds no joint.
                 sides_kink = [_kink(p[np.argsort(p @ dm)]) for p in core_pts if len(p) >= 12]
                 if len(sides_kink) == 2:
                     kink = min(kink, max(sides_kink))
+            if sign < 0 and checks:
+                # the finger's joint bends the midline between its skin edges too, which a
+                # band does not; a short or uneven stretch of skin edge bends only that one
+                skin_mid = _skin_midline(core_pts, dm)
+                if len(skin_mid) >= 12:
+                    kink = min(kink, _kink(skin_mid))
             # the arm's width: between its two skin edges' lines, across the axis at its centre
             gap = skin_centres[1] - skin_centres[0]
             width = abs(float(d_axis[0] * gap[1] - d_axis[1] * gap[0]))

@@ -657,6 +657,19 @@ def test_a_strip_of_a_black_glove_whose_hand_turns_three_widths_on_is_not_measur
     assert m.status == "failed" or abs(m.angle_deg - angle) < 5.0, (m.angle_deg, m.status)
 
 
+def test_a_finger_whose_edges_run_straight_is_not_bent_by_its_midline():
+    # seed 2026's realistic render 97 turned by 90 deg (both tape bands, the second joint
+    # bent by 15 deg): rebuilt in the forearm's colours, the finger's band standing off
+    # one side near the bend's corner bends the midline in the finger's window by 12 deg
+    # while both edges run straight; refused there, the first silhouette's unsure 82.3 deg
+    # was the answer
+    angle = 86.46875495634715
+    img, _ = _benchmark_photo(angle, 721837863, "realistic", transform=lambda im: np.rot90(im, -1),
+                              palm_mm=8.58039538131122)
+    m = measure_angle(img)
+    assert m.status == "ok" and abs(m.angle_deg - angle) < 1.5, (m.angle_deg, m.status, m.reason)
+
+
 @pytest.mark.parametrize("angle, rng, palm_mm, turn", [
     (65.40992190936814, 60629099, 8.883009898794185, lambda im: np.rot90(im, -1)),
     (84.53975250219757, 956506073, 6.104877312956069, lambda im: np.rot90(im, 2))],
