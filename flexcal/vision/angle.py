@@ -612,7 +612,7 @@ def _turns_again(mid, s, width, b, wf, hand, d_hand, end):
     realistic 76 upside down, 14-24 deg over 2.5 widths, then 1, measured right).
     Windows ending within a width of the silhouette's end are left out (the forearm at
     the picture's edge turns and widens). The windows reach far enough for the turn of a
-    finger taken at a third of its width (a black glove's lit strip, rebuilt in the
+    finger taken at half its width (a black glove's lit strip, rebuilt in the
     forearm's colours): its hand's window ends on the finger, and the knuckle lies 3
     widths beyond it (10000 hard 32 turned by 180 deg: 0.8 deg for 44, sure, the turn of
     49-51 deg seen only from 3.0 widths on, where a run to 3.5 was too short).

@@ -647,7 +647,7 @@ def test_a_hand_whose_edges_run_straight_is_not_bent_by_its_midline(angle, rng, 
 def test_a_strip_of_a_black_glove_whose_hand_turns_three_widths_on_is_not_measured():
     # seed 10000's hard render 32 turned by 180 deg (a black glove against a dark wall and
     # box): rebuilt in the forearm's colours, the silhouette keeps only a strip of the
-    # glove a third of the finger thick; with widths that small both arms lie on the
+    # glove half the finger thick; with widths that small both arms lie on the
     # finger, 0.8 deg for 44, sure. Beyond the arm taken for the hand the strip turns by
     # 49-51 deg and widens, from 3 widths on: the knuckle, there
     angle = 43.969012898690615
