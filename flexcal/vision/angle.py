@@ -530,7 +530,7 @@ def _cut_short(tip, ahead, cut_off, width_px) -> np.ndarray | None:
     return np.isin(comp, np.unique(comp[ys[near], xs[near]]))
 
 
-def _stepless_side(work, sides, s, windows, parted=None, banded=None) -> bool:
+def _stepless_side(work, sides, s, windows, parted=None) -> bool:
     """Whether the outline crosses no colour step along one side of an arm: the median
     ``colour_steps`` under ``MIN_SIDE_STEP`` on a side within one of the arclength
     ``windows`` (the finger's and the hand's), or under ``MIN_EDGE_STEP`` within all of
@@ -543,17 +543,14 @@ def _stepless_side(work, sides, s, windows, parted=None, banded=None) -> bool:
     the skin instead, a slope: parallel to the finger's edge or not, it is not the edge.
     Outline points in ``parted`` (a boolean image: next to another finger parted from
     this silhouette, ``_measure_split``) are left out: there the outline is the front
-    finger's edge across the finger behind it, of the same colour. So are those flagged
-    in ``banded`` (per side: where a band crosses the finger, ``_banded``): there the
-    outline runs over the band, of one colour on both sides of it.
+    finger's edge across the finger behind it, of the same colour.
     """
     blurred = cv2.GaussianBlur(work, (3, 3), 0)
-    for k, (pts, near, normals) in enumerate(sides):
+    for pts, near, normals in sides:
         steps, at = colour_steps(blurred, pts, normals), s[near]
-        own = np.ones(len(pts), bool) if banded is None else ~banded[k]
         if parted is not None:
-            own &= ~_inside(pts, parted)
-        steps, at = steps[own], at[own]
+            own = ~_inside(pts, parted)
+            steps, at = steps[own], at[own]
         medians = []
         for lo, hi in windows:
             inside = (at >= lo) & (at <= hi)
@@ -564,25 +561,6 @@ def _stepless_side(work, sides, s, windows, parted=None, banded=None) -> bool:
         if len(medians) == len(windows) and max(medians) < MIN_EDGE_STEP:
             return True
     return False
-
-
-def _banded(sides, s, dropped, wf):
-    """Per side, the outline points where a band crosses the finger: ``dropped`` (per side,
-    the points under which ``skin_edge`` found no skin, or a band found by the widths) with
-    the other side's dropped too within ``BAND_MARGIN`` widths along the midline (``s``).
-    A strip of the background joined along one side drops that side only."""
-    at = [s[near] for _, near, _ in sides]
-    out = []
-    for k in (0, 1):
-        other, mine = np.sort(at[1 - k][dropped[1 - k]]), at[k]
-        if not len(other):
-            out.append(np.zeros(len(mine), bool))
-            continue
-        i = np.searchsorted(other, mine)
-        gap = np.minimum(np.abs(mine - other[np.clip(i - 1, 0, len(other) - 1)]),
-                         np.abs(other[np.clip(i, 0, len(other) - 1)] - mine))
-        out.append(dropped[k] & (gap <= BAND_MARGIN * wf))
-    return out
 
 
 def _inside(pts, region):
@@ -1520,7 +1498,6 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                   max(bk + w[1] * wf for bk, w in zip(shifted, hand_windows)))}
     sides = [(side, near, inward_normals(side, mid[near])) for side, near in ((a_pts, near_a), (b_pts, near_b))]
     skin = {}
-    dropped = [np.zeros(len(side), bool) for side, _, _ in sides]   # no skin's edge found under them
     # (the silhouette widens at the knuckle's bend too: that is no band)
     bands = [(lo_b, hi_b) for lo_b, hi_b in _bands(mid[facing], s[facing], width[facing], wf)
              if not lo_b <= b <= hi_b]
@@ -1536,7 +1513,6 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                 if keep[on_band].all():
                     keep &= ~on_band
             skin[sign, k] = (sn[keep], pts[keep], side[m][keep])
-            dropped[k][np.flatnonzero(m)[~keep]] = True
 
     def edge_line(pts, finger):
         # a finger's edge: started (robustly) from all the edge in the window, not from
@@ -1785,8 +1761,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
         reasons.append(f"a bend of {angle:.0f} deg is beyond any knuckle's range: the arms found are not the "
                        "finger's and the hand's")
     if _stepless_side(work, sides, s, [(b - FIN_WIN[1] * wf, b - FIN_WIN[0] * wf),
-                                       (b + hand_lo * wf, b + hand_hi * wf)], along,
-                      _banded(sides, s, dropped, wf)):
+                                       (b + hand_lo * wf, b + hand_hi * wf)], along):
         conf = 0.0
         reasons.append("along one side of an arm the outline crosses no colour step: it follows the shading on "
                        "the skin, not the skin's edge (its lit side is in the background's colours)")
