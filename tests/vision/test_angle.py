@@ -663,7 +663,7 @@ def test_a_strip_of_a_black_glove_whose_hand_turns_three_widths_on_is_not_measur
     ids=["20000 render 51", "10000 render 37 turned by 90 deg"])
 def test_two_fingertips_in_a_rebuilt_silhouette_are_not_measured_as_one(angle, rng, palm_mm, turn):
     # held-out hard renders, another finger behind the finger: rebuilt in the forearm's
-    # colours, the silhouette takes in both fingertips, narrower near the knuckle (0.88-0.93
+    # colours, the silhouette takes in both fingertips, narrower near the knuckle (0.89-0.93
     # of their width) and the hand only 1.32-1.35 times as thick as them; the knuckle,
     # sought so many of those widths from the tip, lands too near it, and the answers
     # were 27.5 deg for 21.5 and 69.9 for 64.6, sure
