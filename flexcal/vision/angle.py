@@ -426,6 +426,9 @@ TWO_TIPS = (1.0, 1.4)    # a silhouette rebuilt in the forearm's colours whose f
                          # near its tip (under the first) and whose hand is under the second times that tip: two
                          # fingertips side by side taken for one (hard renders, turned, 4 seeds: 16 of 17 such sure
                          # answers 3.3-6.0 deg off; drawings, their fingers tubes, 0.92-0.99 and 1.31-1.40, right)
+TWO_TIPS_ANY = (0.9, 1.45)  # ... and so is any silhouette's finger under the first with a hand under the second
+                         # (hard renders, turned, 4 seeds: 13 answers, all with another finger behind, 12 of them
+                         # 2.2-5.2 deg off; realistic, and drawings turned on 2 seeds: none)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
@@ -1056,8 +1059,9 @@ def _two_tips(m: AngleMeasurement) -> bool:
     is sought too near the tip, and the answers lean by 3-6 deg, sure (held-out 20000 hard
     51 as rendered and turned by 90 and 180 deg: 26.6-27.5 deg for 21.5; 10000 hard 37
     turned by 90 and 270 deg: 70 for 64.6). Only rebuilt silhouettes: a finger drawn as a
-    tube (the drawn suites) is as wide near its knuckle as near its tip, and its hand can
-    be as thin; measured as they are, those are right.
+    tube (the drawn suites) is as wide near its knuckle as near its tip (0.92-1.0), and
+    its hand can be as thin; measured as they are, those are right. Any silhouette whose
+    finger is narrower still (``TWO_TIPS_ANY``) is refused in ``_measure_silhouette``.
     """
     d = m.details
     return d.get("finger_window_width", np.inf) < TWO_TIPS[0] and d.get("hand_to_finger_width", np.inf) < TWO_TIPS[1]
@@ -1680,6 +1684,14 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                  "or pointed object), or its tip is not whole; give an ROI around the hand and finger")
         m.details.update(finger_window_px=fin["width"])
         return m
+    # Narrower still in its window than near its tip, beside a thin hand: two fingertips
+    # side by side set the finger's width (another finger behind, bent a little further;
+    # a finger's flare makes it wider near its knuckle, a tube is as wide: ``_two_tips``)
+    if window_width < TWO_TIPS_ANY[0] and hand_ratio < TWO_TIPS_ANY[1]:
+        return fail(f"the part taken for the finger is narrower near the knuckle than near its tip "
+                    f"({window_width:.2f}x) and the hand hardly thicker than that tip ({hand_ratio:.2f}x): two "
+                    "fingertips side by side taken for one; curl the other fingers out of the side view",
+                    foreign=True, two_fingers=True)
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
     angle = _bend(d_h_in, d_f_out)
