@@ -428,7 +428,8 @@ TWO_TIPS = (1.0, 1.4)    # a silhouette rebuilt in the forearm's colours whose f
                          # answers 3.3-6.0 deg off; drawings, their fingers tubes, 0.92-0.99 and 1.31-1.40, right)
 TWO_TIPS_ANY = (0.9, 1.45)  # ... and so is any silhouette's finger under the first with a hand under the second
                          # (hard renders, turned, 4 seeds: 13 answers, all with another finger behind, 12 of them
-                         # 2.2-5.2 deg off; realistic, and drawings turned on 2 seeds: none)
+                         # 2.2-5.2 deg off; realistic: none; drawings turned on 2 seeds: one, answered alike
+                         # from another parting)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction

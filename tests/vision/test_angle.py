@@ -680,7 +680,7 @@ def test_two_fingertips_in_a_rebuilt_silhouette_are_not_measured_as_one(angle, r
 def test_two_fingertips_side_by_side_are_not_measured_as_one_finger(angle, rng, palm_mm, turn):
     # hard renders, the middle finger behind the index and bent 9-13 deg further: the
     # silhouette, as segmented, holds both fingertips, so the finger is narrower in its
-    # window than near its "tip" (0.85-0.88x) and the hand only 1.31-1.35 times as thick
+    # window than near its "tip" (0.85-0.88x) and the hand only 1.33-1.35 times as thick
     # as that tip; the knuckle, sought so many of those widths from the tip, is misplaced
     # and the answers were 6.5 deg for 4.2 (sure), 18.7 for 14.4 and 46.8 for 41.6 (sure)
     img, _ = _benchmark_photo(angle, rng, "hard", transform=turn, palm_mm=palm_mm)
