@@ -1457,6 +1457,18 @@ def test_a_stub_ending_at_a_band_as_wide_as_the_finger_is_cut_short():
         (m.angle_deg, m.angle_unc_deg)
 
 
+def test_a_stub_cut_at_a_band_beside_its_tip_is_cut_short():
+    # held-out hard render 3 of seed 30000, bent 85 deg with the finger's band at the
+    # knuckle: the band, in the wall's colours, cut the finger off, and the silhouette was
+    # the hand and a stub of the finger up to the band, read straight (0.4 deg, sure, in
+    # four of five turns). The rest of the finger starts 0.4 of the stub's widths from
+    # its "tip", but beside it (79 deg from straight ahead), bent away with the knuckle
+    angle = 84.56161133416009
+    img, _ = _benchmark_photo(angle, 1701775145, "hard", palm_mm=8.344572467186842)
+    m = measure_angle(img)
+    assert m.status == "failed" or abs(m.angle_deg - angle) < 3.0, (m.angle_deg, m.status)
+
+
 def test_a_finger_half_again_as_wide_in_its_window_as_at_its_tip_is_not_taken():
     # the benchmark's hard render 30 (seed 2026), a finger bent 15 deg: with k-means'
     # seed 4 one reading found the finger 1.48x as wide in its window as near its tip
