@@ -432,8 +432,9 @@ TWO_TIPS_ANY = (0.9, 1.45)  # ... and so is any silhouette's finger under the fi
                          # from another parting)
 TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) ahead of its tip: finger cut short
                          # (a tape band is about a finger width wide; the finger beyond it starts further)
-TIP_CUT_SIDE_W = 0.75    # ... or this near and anywhere but behind it (a band at the knuckle of a large bend: the
-                         # rest of the finger starts beside the stub's end, bent away with the knuckle)
+TIP_CUT_SIDE_W = 0.5     # ... or this near and anywhere but behind it (a band at the knuckle of a large bend: the
+                         # rest of the finger starts beside the stub's end, bent away with the knuckle; a finger
+                         # beside the tip lies further off)
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)

@@ -1097,6 +1097,7 @@ def test_a_piece_counts_as_cut_off_the_tip_only_ahead_of_it():
     for (x0, y0), want in [((112, 95), True),      # just beyond the tip
                            ((112, 108), True),     # ahead, 34 deg off the axis
                            ((100, 114), False),    # beside it: a neighbouring finger
+                           ((100, 108), True),     # right beside it: the finger beyond a band at the knuckle
                            ((80, 95), False),      # behind it
                            ((127, 95), True),      # 1.35 widths ahead: beyond a tape band
                            ((135, 95), False)]:    # more than 1.5 widths away
