@@ -1018,7 +1018,8 @@ def _measure_segmentation(work, f, seg, readings=None):
                             continue
                     if m2.status == "ok":
                         m2 = _via(_past_palm(work, f, alt, seg.contrast, m2, cut_off=alt_cut, **widths), how)
-                        if _two_tips(m2):
+                        if _two_tips(m2.details.get("finger_window_width", np.inf),
+                                     m2.details.get("hand_to_finger_width", np.inf), TWO_TIPS):
                             continue
                         sure.append(m2)
                         if alt.sum() > best_area:
@@ -1057,10 +1058,12 @@ def _measure_segmentation(work, f, seg, readings=None):
     return m
 
 
-def _two_tips(m: AngleMeasurement) -> bool:
-    """Whether a silhouette rebuilt in the forearm's colours measured as ``m`` took two
-    fingertips side by side for one finger's: its finger narrower near the knuckle than
-    near its tip, and its hand hardly thicker than that tip (``TWO_TIPS``).
+def _two_tips(window_width, hand_ratio, bounds) -> bool:
+    """Whether a silhouette took two fingertips side by side for one finger's: its finger
+    narrower in its window than ``bounds[0]`` times its width near the tip
+    (``window_width``), and its hand under ``bounds[1]`` times that tip (``hand_ratio``).
+    ``TWO_TIPS`` for a silhouette rebuilt in the forearm's colours, ``TWO_TIPS_ANY`` for
+    any.
 
     The forearm's colours take in everything of the skin's colour, another finger behind
     the finger too; the two tips then set the finger's width, which a single finger
@@ -1072,8 +1075,7 @@ def _two_tips(m: AngleMeasurement) -> bool:
     its hand can be as thin; measured as they are, those are right. Any silhouette whose
     finger is narrower still (``TWO_TIPS_ANY``) is refused in ``_measure_silhouette``.
     """
-    d = m.details
-    return d.get("finger_window_width", np.inf) < TWO_TIPS[0] and d.get("hand_to_finger_width", np.inf) < TWO_TIPS[1]
+    return window_width < bounds[0] and hand_ratio < bounds[1]
 
 
 def _with_width_from_window(work, f, seg, cut_off, first):
@@ -1696,7 +1698,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # Narrower still in its window than near its tip, beside a thin hand: two fingertips
     # side by side set the finger's width (another finger behind, bent a little further;
     # a finger's flare makes it wider near its knuckle, a tube is as wide: ``_two_tips``)
-    if window_width < TWO_TIPS_ANY[0] and hand_ratio < TWO_TIPS_ANY[1]:
+    if _two_tips(window_width, hand_ratio, TWO_TIPS_ANY):
         return fail(f"the part taken for the finger is narrower near the knuckle than near its tip "
                     f"({window_width:.2f}x) and the hand hardly thicker than that tip ({hand_ratio:.2f}x): two "
                     "fingertips side by side taken for one; curl the other fingers out of the side view",
