@@ -761,7 +761,8 @@ def _measure_contour(bgr, segmented=None):
         # same way twice.
         sure = []
         for seed in range(KMEANS_SEED + 1, KMEANS_SEED + 1 + OTHER_DRAWS):
-            again = _measure_draw((work, f, segment_finger(work, seed=seed)), seed)
+            # (their answers in finer colours need no further draw: two of these must agree)
+            again = _measure_draw((work, f, segment_finger(work, seed=seed)), seed, confirm_finer=False)
             if again.status != "ok" or _disagreeing(again, sure, sigmas=2.0) is not None:
                 break
             sure.append(again)
@@ -775,12 +776,12 @@ def _measure_contour(bgr, segmented=None):
     return m
 
 
-def _measure_draw(segmented, seed):
+def _measure_draw(segmented, seed, confirm_finer=True):
     """A measurement of the photo from one draw of its colour clusters (``segmented``,
     from the random start ``seed``: the finer and shadow-colour segmentations use it
-    too)."""
+    too); ``confirm_finer``: as ``_measure_segmentations``."""
     readings = []
-    m = _measure_segmentations(segmented, readings, seed)
+    m = _measure_segmentations(segmented, readings, seed, confirm_finer)
     # An unsure answer that another reading of the photo contradicts (another silhouette
     # of it, sure or not) is a guess between them: refused (held-out 80000 realistic 90
     # turned by 90 deg: 16.3 deg for 6.5 at low contrast, where the forearm's colours and
@@ -796,10 +797,12 @@ def _measure_draw(segmented, seed):
     return _readings_disagree(m, other) if other is not None else m
 
 
-def _measure_segmentations(segmented, readings, seed=None):
+def _measure_segmentations(segmented, readings, seed=None, confirm_finer=True):
     """``_measure_contour``'s search over the photo's segmentations (those made here from
     k-means' random start ``seed``, None: ``KMEANS_SEED``); the silhouettes' measurements
-    are appended to ``readings`` (``_measure_segmentation``)."""
+    are appended to ``readings`` (``_measure_segmentation``). ``confirm_finer``: an answer
+    in finer colours counts only if the finer colours of the next random start agree
+    (``_confirmed_in_finer_colours``)."""
     seed = KMEANS_SEED if seed is None else seed
     work, f, seg = segmented
     m = _measure_segmentation(work, f, seg, readings)
@@ -850,7 +853,30 @@ def _measure_segmentations(segmented, readings, seed=None):
         if not agree:
             return m
     m2 = _measure_segmentation(work, f, finer, readings)
-    return _via(m2, f"{FINER_COLOURS} colours") if m2.status == "ok" else m
+    if m2.status != "ok" or (confirm_finer and not _confirmed_in_finer_colours(work, f, m2, seed)):
+        return m
+    return _via(m2, f"{FINER_COLOURS} colours")
+
+
+def _confirmed_in_finer_colours(work, f, m, seed) -> bool:
+    """Whether ``m``, a sure answer on the working image's segmentation in finer colours
+    from k-means' random start ``seed``, is given again by the finer colours from the
+    next start: sure, and within twice their combined uncertainty.
+
+    Finer colours are the second guess at a photo the first segmentation could not
+    answer, and more colours make more silhouettes: a strip of the hand cut square at a
+    band, the knuckle on a bent second joint, one of two fingers. On the development
+    seeds (2026, 5000, 10000, 20000, hard, turned) no answer in finer colours was off by
+    more than 5 deg, but on two fresh seeds (30000 and 40000) seven of the ten were, by
+    7 to 84 deg, sure (30000 hard 3 turned by 90 deg, the hand and a stub of the finger:
+    0.7 deg for 84.6). On the next start of k-means five of those seven are refused or
+    read otherwise (40000 hard 95 turned by 270 deg: 32.4 deg, the second joint's bend,
+    then 3.4, for 3.3). A finger and hand that the finer colours find come out the same
+    on both.
+    """
+    again = segment_finger(work, k=FINER_COLOURS, seed=seed + 1)
+    m2 = _measure_segmentation(work, f, again)
+    return m2.status == "ok" and _disagreeing(m, [m2], sigmas=2.0) is None
 
 
 def _with_shadow_colours(work, f, m, readings=None, seed=None):
