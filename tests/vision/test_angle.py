@@ -1490,6 +1490,35 @@ def test_an_answer_in_finer_colours_that_the_next_draw_does_not_give_is_not_take
     assert m.status == "failed" or abs(m.angle_deg - angle) < 5.0, (m.angle_deg, m.status, m.details.get("via"))
 
 
+@pytest.mark.parametrize("angle, rng, palm_mm, turn", [
+    (87.12051964421049, 1240215369, 6.409950410578659, cv2.ROTATE_180),
+    (63.475606515560884, 1910574174, 7.1605648661240595, cv2.ROTATE_90_CLOCKWISE),
+    (72.73279432289657, 1367305194, 6.009616628564357, cv2.ROTATE_180)],
+    ids=["short finger", "forearm's colours", "parted"])
+def test_a_finger_arm_whose_fingertip_lies_far_off_its_direction_is_not_the_fingers(angle, rng, palm_mm, turn):
+    # held-out hard renders of seed 170000, turned, large bends read as straight, sure:
+    # render 22 (3.4 deg for 87.1: a short finger, its tip in shadow, its knuckle nearer
+    # the tip than the range searched, both arms put on the hand), render 32 (2.7 for
+    # 63.5, rebuilt in the forearm's colours) and 53 (3.7 for 72.7, parted from another
+    # finger). Seen from the arm taken for the finger, the fingertip lay 46-53 deg off it
+    img, _ = _benchmark_photo(angle, rng, "hard", transform=lambda im: cv2.rotate(im, turn), palm_mm=palm_mm)
+    m = measure_angle(img)
+    assert m.status == "failed" or abs(m.angle_deg - angle) < 5.0, (m.angle_deg, m.status, m.details.get("via"))
+
+
+@pytest.mark.parametrize("pip", [0.0, 25.0, 45.0])
+def test_a_finger_with_its_second_joint_bent_keeps_its_tip_ahead_of_its_arm(pip):
+    # a clean render with the second joint bent up to the hard preset's 45 deg (the third
+    # by 0.7 times that more): the fingertip stays within the bound of the finger's arm,
+    # and the knuckle's bend is measured
+    from flexcal.vision.angle import TIP_OFF_ARM_DEG
+    img, t = render_finger(30.0, shape=(480, 640), rng=7, difficulty="clean", pip_deg=pip)
+    m = measure_angle(img)
+    assert m.status != "failed", m.reason
+    assert m.details["tip_off_arm_deg"] < TIP_OFF_ARM_DEG - 5.0, m.details["tip_off_arm_deg"]
+    assert abs(m.angle_deg - t.angle_deg) <= 3.0 * max(m.angle_unc_deg, 1.0), (m.angle_deg, t.angle_deg)
+
+
 def test_a_finger_half_again_as_wide_in_its_window_as_at_its_tip_is_not_taken():
     # the benchmark's hard render 30 (seed 2026), a finger bent 15 deg: with k-means'
     # seed 4 one reading found the finger 1.48x as wide in its window as near its tip
