@@ -1741,7 +1741,7 @@ def _measure_silhouette(work, f, mask, contrast, long_finger=False, cut_off=None
     # a rebuilt or parted piece of the hand (render 32 turned by 90, 2.7 for 63.5; render
     # 53 turned by 180, 3.7 for 72.7: 53 and 48 deg off)
     to_tip = side_a[0] - fin["c"]
-    tip_off = float(np.degrees(np.arctan2(abs(to_tip[0] * d_f_out[1] - to_tip[1] * d_f_out[0]), to_tip @ d_f_out)))
+    tip_off = _bend(to_tip / max(float(np.linalg.norm(to_tip)), 1e-9), d_f_out)
     if tip_off > TIP_OFF_ARM_DEG:
         return fail(f"the fingertip lies {tip_off:.0f} deg off the direction of the arm taken for the finger: that "
                     "arm is not the finger's (a finger shorter than usual, its knuckle nearer the tip than sought, or "
