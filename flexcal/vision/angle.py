@@ -107,6 +107,7 @@ from functools import lru_cache
 import cv2
 import numpy as np
 from scipy.ndimage import gaussian_filter1d, median_filter
+from scipy.signal import find_peaks
 from scipy.spatial import cKDTree
 
 from flexcal.vision.edges import BAND_MARGIN, colour_steps, cut_contrast, inward_normals, skin_edge
@@ -114,13 +115,17 @@ from flexcal.vision.fork import fork_seeds, free_branch_ends
 from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.order_stats import median as _median, percentile as _percentile
-from flexcal.vision.segment import (border_pixels, box, forearm_colours, forearm_regions, other_colours_thickness,
-                                    outer_outline, segment_finger, split_at_inner_edge)
+from flexcal.vision.segment import (GEODESIC_Q, border_pixels, box, forearm_colours, forearm_regions,
+                                    geodesic_from_border, other_colours_thickness, outer_outline, segment_finger,
+                                    split_at_inner_edge)
 
 METHODS = ("auto", "contour", "markers")
 MIN_DOT_TO_ARM = 0.12     # auto: marker dots at least this many times the arm's half width (stickers: 0.25-0.35)
 WORK_SIZE = 640            # long side of the working resolution, pixels
 KMEANS_SEED = 0            # random start of the colour clustering (benchmarks/vision.py --kmeans-seed varies it)
+TIP_GEODESIC_BLOCKS = 3    # a free end of the silhouette: outline points this near (blocks) a peak along it
+TIP_SHORT_W = 1.0          # the farthest point this many finger widths short of a free end is on the finger's side
+TIP_END_BLOCKS = 10        # ... the finger's width: the widest of the silhouette's last blocks along it
 MIN_FINGER_SHARE = 0.025   # a finger narrower than this share of the picture's long side is not measured ...
 MIN_FINGER_PX = 4.0        # ... nor one narrower than this many pixels (a small photo)
 UNC_FLOOR_DEG = 0.5        # what the method cannot resolve: its RMS error on clean renders is ~0.6 deg
@@ -263,10 +268,25 @@ def _outline_chains(mask):
     chain = _longest_stretch(c, starts, lengths)
     if len(chain) < 40:
         return None, "the silhouette is too small to measure"
-    tip = _tip_index(chain)
+    # where it leaves the picture: the rest of the outline, along the picture's edge
+    first = int(starts[np.argmax(lengths)])
+    on_edge = np.ones(len(c), bool)
+    on_edge[np.arange(first, first + len(chain)) % len(c)] = False
+    geodesic = geodesic_from_border(mask, c[on_edge]) if on_edge.any() else None
+    tip = _tip_index(chain, geodesic, None if geodesic is None else _block_half_widths(mask, geodesic.shape))
     side_a = chain[: tip + 1][::-1]   # tip -> edge
     side_b = chain[tip:]              # tip -> edge
     return (side_a, side_b, exits), ""
+
+
+def _block_half_widths(mask, shape):
+    """The silhouette's distance transform (its half width, pixels) at the centre of each
+    of the geodesic's blocks (``segment.GEODESIC_Q``), an array of ``shape``."""
+    q = GEODESIC_Q
+    b = box(mask)
+    dt = np.zeros(mask.shape, np.float32)
+    dt[b] = cv2.distanceTransform(mask[b].astype(np.uint8), cv2.DIST_L2, 3)
+    return dt[q // 2::q, q // 2::q][:shape[0], :shape[1]]
 
 
 def _longest_stretch(contour, starts, lengths):
@@ -276,10 +296,46 @@ def _longest_stretch(contour, starts, lengths):
     return contour[np.arange(a, a + int(lengths.max())) % len(contour)]
 
 
-def _tip_index(chain):
+def _tip_index(chain, geodesic=None, half_width=None):
     """The fingertip on the outline of hand and finger: the point farthest from where it
-    leaves the picture."""
-    return int(np.argmax(np.linalg.norm(chain - (chain[0] + chain[-1]) / 2, axis=1)))
+    leaves the picture, unless (given the silhouette's ``segment.geodesic_from_border``
+    and its distance transform ``half_width``, both at the geodesic's blocks) that point
+    is no free end of the silhouette but lies more than ``TIP_SHORT_W`` finger widths
+    short of one along the silhouette: on a finger's side, not at its end. The tip is
+    then the point, of those at a free end (where the distance along the silhouette
+    peaks on the outline, within ``TIP_GEODESIC_BLOCKS`` of the peak: its round end),
+    farthest from where the hand leaves the picture.
+
+    A finger curled back towards the hand has the outer side of its second joint, or the
+    knuckle's outer corner, farther from where the hand leaves the picture than its tip
+    (held-out 200000 hard 6: a bend of 83 deg, the second joint bent by 35: the tip put
+    1.6 widths back on the second joint's outer side, the knuckle on the hand, 5.3 deg,
+    in all four turns). (Always at a free end instead: the tip moved on the side of the
+    round end of most large bends, and 5000 hard 87, two fingertips side by side that
+    the old tip made too wide to be one, was answered 5-8 deg off in all five turns.)"""
+    far = np.linalg.norm(chain - (chain[0] + chain[-1]) / 2, axis=1)
+    tip = int(np.argmax(far))
+    if geodesic is None or half_width is None or not np.isfinite(geodesic).any():
+        return tip
+    # (the block of each outline point, or its farthest neighbour in the silhouette:
+    # a block on the outline may be outside it at the coarse resolution)
+    q = GEODESIC_Q
+    g = cv2.dilate(np.where(np.isfinite(geodesic), geodesic, -1.0).astype(np.float32), np.ones((3, 3), np.uint8))
+    along = g[np.clip(chain[:, 1].astype(int) // q, 0, g.shape[0] - 1),
+              np.clip(chain[:, 0].astype(int) // q, 0, g.shape[1] - 1)]
+    peaks = find_peaks(np.r_[-1.0, along, -1.0], prominence=TIP_GEODESIC_BLOCKS)[0] - 1
+    at_end = np.zeros(len(chain), bool)
+    for p in peaks:
+        # the run of outline points around the peak within the tolerance of it
+        near = along >= along[p] - TIP_GEODESIC_BLOCKS
+        run = np.cumsum(np.r_[True, near[1:] != near[:-1]])
+        at_end |= near & (run == run[p])
+    top = float(along.max())
+    # the finger's width near its end: the silhouette's widest there (its last blocks)
+    width = 2.0 * float(half_width[np.isfinite(geodesic) & (geodesic >= top - TIP_END_BLOCKS)].max(initial=0.0))
+    if at_end[tip] or not at_end.any() or top - along[tip] <= TIP_SHORT_W * width / q:
+        return tip
+    return int(np.argmax(np.where(at_end, far, -1.0)))
 
 
 def _tangents(chain):

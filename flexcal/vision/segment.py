@@ -285,19 +285,41 @@ def _pick(fg, border):
     return best, comp, candidates
 
 
+GEODESIC_Q = 4    # geodesic distances are found at this fraction of the resolution
+
+
+def geodesic_from_border(part, exits=None):
+    """The distance of each block of ``GEODESIC_Q`` x ``GEODESIC_Q`` pixels of ``part`` (a
+    0/1 image) from where it leaves the picture, along paths inside it, in blocks (at a
+    quarter of the resolution: cheap, and a finger is several blocks wide); inf outside
+    the part, and everywhere when it does not reach the picture's edge. ``exits``: the
+    (x, y) pixels where it leaves the picture, when not every one of its pixels on the
+    picture's edge is (a fingertip touching it is not)."""
+    q = GEODESIC_Q
+    small = cv2.resize(part.astype(np.uint8), (part.shape[1] // q, part.shape[0] // q),
+                       interpolation=cv2.INTER_NEAREST) > 0
+    if exits is None:
+        starts = np.column_stack(np.nonzero(small & border_pixels(small.shape)))
+    else:
+        starts = np.unique(np.column_stack([np.minimum(exits[:, 1].astype(int) // q, small.shape[0] - 1),
+                                            np.minimum(exits[:, 0].astype(int) // q, small.shape[1] - 1)]), axis=0)
+        starts = starts[small[starts[:, 0], starts[:, 1]]]
+    if len(starts) == 0:
+        return np.full(small.shape, np.inf)
+    dist, _ = MCP_Geometric(np.where(small, 1.0, np.inf)).find_costs(starts)
+    return dist
+
+
 def _free_end(part, border):
     """The (row, col) of the part farthest from where it leaves the picture, along the part.
 
-    Distances are geodesic (paths inside the part, at a quarter of the resolution): a
-    platform joined to the hand may reach farther from the border in a straight line.
+    Distances are geodesic (``geodesic_from_border``): a platform joined to the hand may
+    reach farther from the border in a straight line.
     """
-    q = 4
-    small = cv2.resize(part, (part.shape[1] // q, part.shape[0] // q), interpolation=cv2.INTER_NEAREST) > 0
-    starts = np.column_stack(np.nonzero(small & border_pixels(small.shape)))
-    if len(starts) == 0 or not small.any():
+    q = GEODESIC_Q
+    dist = geodesic_from_border(part)
+    if not np.isfinite(dist).any():
         return np.array(np.unravel_index(np.argmax(cv2.distanceTransform(part, cv2.DIST_L2, 3)), part.shape))
-    cost = np.where(small, 1.0, np.inf)
-    dist, _ = MCP_Geometric(cost).find_costs(starts)
     dist[~np.isfinite(dist)] = -1
     r, c = np.unravel_index(np.argmax(dist), dist.shape)
     # a pixel of the part inside that block, at full resolution
