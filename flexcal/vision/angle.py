@@ -265,13 +265,13 @@ def _outline_chains(mask):
         return None, "the hand does not leave the picture; crop or choose an ROI so the forearm is cut by the frame"
     if not len(lengths):
         return None, "the silhouette runs all along the picture's edge; is the finger in view?"
-    chain = _longest_stretch(c, starts, lengths)
+    on_chain = _longest_stretch_index(starts, lengths, len(c))
+    chain = c[on_chain]
     if len(chain) < 40:
         return None, "the silhouette is too small to measure"
     # where it leaves the picture: the rest of the outline, along the picture's edge
-    first = int(starts[np.argmax(lengths)])
     on_edge = np.ones(len(c), bool)
-    on_edge[np.arange(first, first + len(chain)) % len(c)] = False
+    on_edge[on_chain] = False
     geodesic = geodesic_from_border(mask, c[on_edge]) if on_edge.any() else None
     tip = _tip_index(chain, geodesic, None if geodesic is None else _block_half_widths(mask, geodesic.shape))
     side_a = chain[: tip + 1][::-1]   # tip -> edge
@@ -292,8 +292,14 @@ def _block_half_widths(mask, shape):
 def _longest_stretch(contour, starts, lengths):
     """The longest stretch of a closed outline off the picture's edge (``_free_stretches``):
     the outline of hand and finger."""
+    return contour[_longest_stretch_index(starts, lengths, len(contour))]
+
+
+def _longest_stretch_index(starts, lengths, n):
+    """The indices, in order, of the longest stretch (``_longest_stretch``) of a closed
+    outline of ``n`` points."""
     a = int(starts[np.argmax(lengths)])
-    return contour[np.arange(a, a + int(lengths.max())) % len(contour)]
+    return np.arange(a, a + int(lengths.max())) % n
 
 
 def _tip_index(chain, geodesic=None, half_width=None):
