@@ -1517,6 +1517,15 @@ def test_a_finger_with_its_second_joint_bent_keeps_its_tip_ahead_of_its_arm(pip)
     assert abs(m.angle_deg - t.angle_deg) <= 3.0 * max(m.angle_unc_deg, 1.0), (m.angle_deg, t.angle_deg)
 
 
+def test_a_knuckle_sought_beyond_the_usual_range_keeps_the_fingertip_near_the_fingers_line():
+    # held-out 210000 hard 31 turned by 90 deg: two fingertips side by side; within the
+    # usual range the arms were refused, and the knuckle sought further (9.6 widths) put
+    # both arms on the hand: 3.0 deg for 81.4, sure, the tip 33 deg off the finger's arm
+    # (under the 40 allowed for a bent second joint; right answers of that search: 12.5)
+    _assert_refused_or_within(81.3619308649253, 807033805, "hard", 5.0,
+                              transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE), palm_mm=8.35289932296364)
+
+
 def _tip_of(mask):
     """Where ``_outline_chains`` puts the fingertip on a silhouette, (x, y)."""
     from flexcal.vision.angle import _outline_chains
