@@ -273,7 +273,7 @@ def _outline_chains(mask):
     on_edge = np.ones(len(c), bool)
     on_edge[on_chain] = False
     geodesic = geodesic_from_border(mask, c[on_edge]) if on_edge.any() else None
-    tip = _tip_index(chain, geodesic, None if geodesic is None else _block_half_widths(mask, geodesic.shape))
+    tip = _tip_index(chain, geodesic, mask)
     side_a = chain[: tip + 1][::-1]   # tip -> edge
     side_b = chain[tip:]              # tip -> edge
     return (side_a, side_b, exits), ""
@@ -302,10 +302,10 @@ def _longest_stretch_index(starts, lengths, n):
     return np.arange(a, a + int(lengths.max())) % n
 
 
-def _tip_index(chain, geodesic=None, half_width=None):
+def _tip_index(chain, geodesic=None, mask=None):
     """The fingertip on the outline of hand and finger: the point farthest from where it
-    leaves the picture, unless (given the silhouette's ``segment.geodesic_from_border``
-    and its distance transform ``half_width``, both at the geodesic's blocks) that point
+    leaves the picture, unless (given the silhouette ``mask`` and its
+    ``segment.geodesic_from_border``) that point
     is no free end of the silhouette but lies more than ``TIP_SHORT_W`` finger widths
     short of one along the silhouette: on a finger's side, not at its end. The tip is
     then the point, of those at a free end (where the distance along the silhouette
@@ -321,7 +321,7 @@ def _tip_index(chain, geodesic=None, half_width=None):
     the old tip made too wide to be one, was answered 5-8 deg off in all five turns.)"""
     far = np.linalg.norm(chain - (chain[0] + chain[-1]) / 2, axis=1)
     tip = int(np.argmax(far))
-    if geodesic is None or half_width is None or not np.isfinite(geodesic).any():
+    if geodesic is None or mask is None or not np.isfinite(geodesic).any():
         return tip
     # (the block of each outline point, or its farthest neighbour in the silhouette:
     # a block on the outline may be outside it at the coarse resolution)
@@ -336,10 +336,13 @@ def _tip_index(chain, geodesic=None, half_width=None):
         near = along >= along[p] - TIP_GEODESIC_BLOCKS
         run = np.cumsum(np.r_[True, near[1:] != near[:-1]])
         at_end |= near & (run == run[p])
+    if at_end[tip] or not at_end.any():
+        return tip
     top = float(along.max())
     # the finger's width near its end: the silhouette's widest there (its last blocks)
+    half_width = _block_half_widths(mask, geodesic.shape)
     width = 2.0 * float(half_width[np.isfinite(geodesic) & (geodesic >= top - TIP_END_BLOCKS)].max(initial=0.0))
-    if at_end[tip] or not at_end.any() or top - along[tip] <= TIP_SHORT_W * width / q:
+    if top - along[tip] <= TIP_SHORT_W * width / q:
         return tip
     return int(np.argmax(np.where(at_end, far, -1.0)))
 
