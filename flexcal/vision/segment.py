@@ -750,6 +750,21 @@ def other_colours_thickness(seg: Segmentation, keep) -> float:
     return 2.0 * float(cv2.distanceTransform(other, cv2.DIST_L2, 3).max()) if other.any() else 0.0
 
 
+def other_colours_piece_at(seg: Segmentation, keep, point, thick) -> bool:
+    """Whether a piece of the chosen part outside ``keep`` (boolean per pixel,
+    ``forearm_regions``), at least ``thick`` px thick, reaches within ``thick`` of
+    ``point`` (x, y): something of another colour joined there (looked for within four
+    times ``thick`` of it)."""
+    win, _ = _disk((int(round(point[1])), int(round(point[0]))), 4 * thick, keep.shape)
+    other = ((seg.part[win] > 0) & ~keep[win]).astype(np.uint8)
+    if not other.any():
+        return False
+    _, comp = cv2.connectedComponents(other)
+    thick_ids = np.unique(comp[cv2.distanceTransform(other, cv2.DIST_L2, 3) >= thick / 2])
+    near = _disk((int(round(point[1])) - win[0].start, int(round(point[0])) - win[1].start), thick, other.shape)
+    return bool(np.isin(comp[near[0]][near[1]], thick_ids[thick_ids > 0]).any())
+
+
 def forearm_colours(seg: Segmentation, keep, within=None) -> tuple[np.ndarray, np.ndarray] | None:
     """The silhouette again, of only the forearm's pixels ``keep`` that lie ``within``
     (the part; None: anywhere) (``forearm_regions``), and what its finishing cut off

@@ -1526,6 +1526,14 @@ def test_a_knuckle_sought_beyond_the_usual_range_keeps_the_fingertip_near_the_fi
                               transform=lambda im: cv2.rotate(im, cv2.ROTATE_90_CLOCKWISE), palm_mm=8.35289932296364)
 
 
+def test_a_sure_answer_is_read_again_without_a_thick_piece_in_other_colours():
+    # held-out 230000 hard 66: a poster of another colour joined at the fingertip made the
+    # finger longer, and the knuckle, sought so many widths from the tip, was put on the
+    # second joint: 49.4 deg for 35.6, sure, in all five turns; rebuilt in the forearm's
+    # colours (the poster left out), 37.4-38.5, sure
+    _assert_refused_or_within(35.63610948559809, 1079186030, "hard", 5.0, palm_mm=7.5333117383934045)
+
+
 def _tip_of(mask):
     """Where ``_outline_chains`` puts the fingertip on a silhouette, (x, y)."""
     from flexcal.vision.angle import _outline_chains
