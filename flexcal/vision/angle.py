@@ -2076,4 +2076,6 @@ def _shift(m: AngleMeasurement, ox, oy) -> AngleMeasurement:
                 arm.point = arm.point + off
         if m.outline is not None:
             m.outline = m.outline + off
+        if "tip_px" in m.details:
+            m.details["tip_px"] = tuple(np.asarray(m.details["tip_px"]) + off)
     return m
