@@ -104,7 +104,7 @@ class Segmentation:
             return cut_off
         found = [cut_off, _loose_pieces(self.fg, mask, self.labels, self.tip_clusters, self.tip_half)]
         if mask is not self.mask:
-            tip, half = _fingertip(mask, border_pixels(mask.shape))
+            tip, half = _fingertip(mask)
             own = _tip_clusters(mask, self.labels, tip, half, len(self.centres))
             found.append(_loose_pieces(self.fg, mask, self.labels, own, half))
         found = [f for f in found if f is not None]
@@ -310,7 +310,7 @@ def geodesic_from_border(part, exits=None):
     return dist
 
 
-def _free_end(part, border):
+def _free_end(part):
     """The (row, col) of the part farthest from where it leaves the picture, along the part.
 
     Distances are geodesic (``geodesic_from_border``): a platform joined to the hand may
@@ -351,11 +351,11 @@ def _disk(centre, radius, shape):
     return (slice(y0, y1), slice(x0, x1)), (yy - centre[0]) ** 2 + (xx - centre[1]) ** 2 <= radius * radius
 
 
-def _fingertip(part, border):
+def _fingertip(part):
     """The part's free end (row, col) (``_free_end``) and the finger's half width there:
     the largest inscribed circle a little way in from the tip (not further: the hand may
     be thicker, or joined to something)."""
-    tip = _free_end(part, border)
+    tip = _free_end(part)
     b = box(part)
     dt = np.zeros(part.shape, np.float32)
     dt[b] = cv2.distanceTransform(part[b], cv2.DIST_L2, 3)
@@ -541,7 +541,7 @@ def segment_finger(bgr: np.ndarray, *, k: int = 6, border_share: float = 0.08, s
     if best is None:
         return Segmentation(None, NO_PART, n_candidates=candidates)
     part = (comp == best).astype(np.uint8)
-    tip, half = _fingertip(part, border_full)
+    tip, half = _fingertip(part)
     tip_clusters = _tip_clusters(part, labels, tip, half, k)
     filled, cut_off = _finish(_tip_colours(part, labels, border_full, tip, half, tip_clusters), border_full)
     obj = labels[filled.astype(bool)]
