@@ -118,7 +118,7 @@ from flexcal.vision.fork import fork_seeds, free_branch_ends
 from flexcal.vision.markers import measure_markers
 from flexcal.vision.measurement import AngleMeasurement, Arm, as_bgr8, failed, is_grey
 from flexcal.vision.order_stats import median as _median, percentile as _percentile
-from flexcal.vision.segment import (GEODESIC_Q, border_pixels, box, forearm_clusters, forearm_colours,
+from flexcal.vision.segment import (GEODESIC_Q, border_pixels, box, forearm_cluster_regions, forearm_colours,
                                     forearm_regions, geodesic_from_border, other_colours_piece_at,
                                     other_colours_thickness, outer_outline, segment_finger, split_at_inner_edge)
 
@@ -1135,10 +1135,9 @@ def _measure_segmentation(work, f, seg, readings=None):
         # 37.4-38.5)
         thick = MIN_PIECE_WIDTHS * m.details["finger_width_px"] * f
         tip = np.asarray(m.details["tip_px"]) * f
-        for kept in forearm_clusters(seg):
-            keep = kept[seg.labels]
+        for keep, within in forearm_cluster_regions(seg):
             if other_colours_piece_at(seg, keep, tip, thick):
-                alt, alt_cut = _in_forearm_colours(work, seg, keep, seg.part > 0)
+                alt, alt_cut = _in_forearm_colours(work, seg, keep, within)
                 if alt is not None:
                     readings.append(_measure_silhouette(work, f, alt, seg.contrast, cut_off=alt_cut))
     if m.status != "ok" and best is None and m.details.get("two_fingers"):

@@ -739,8 +739,15 @@ def forearm_regions(seg: Segmentation, bgr) -> list[tuple[np.ndarray, np.ndarray
     silhouette rebuilt from them may lie (``forearm_colours``): in the colour clusters in
     which it leaves the picture (``forearm_clusters``), within the part; then grown from
     its colour to the strongest edges (``forearm_grown``)."""
+    return forearm_cluster_regions(seg) + forearm_grown(seg, bgr)
+
+
+def forearm_cluster_regions(seg: Segmentation) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The first of ``forearm_regions``, without the growing (cheap): per set of the
+    forearm's colour clusters (``forearm_clusters``), its pixels and the part they may
+    lie in."""
     part = seg.part > 0 if seg.part is not None else None
-    return [(kept[seg.labels], part) for kept in forearm_clusters(seg)] + forearm_grown(seg, bgr)
+    return [(kept[seg.labels], part) for kept in forearm_clusters(seg)]
 
 
 def other_colours_thickness(seg: Segmentation, keep) -> float:
