@@ -1243,7 +1243,7 @@ def _with_width_from_window(work, f, seg, cut_off, first):
 def _past_palm(work, f, mask, contrast, m, **kwargs) -> AngleMeasurement:
     """``m``, a measurement of the silhouette ``mask`` (``_measure_silhouette``'s other
     arguments: ``kwargs``), or, when it is sure and the hand has a palm, the silhouette
-    measured again past the palm's pad, if that is sure.
+    measured again past the palm's pad, if that is sure and agrees with ``m`` (below).
 
     A palm: the hand is thicker than the finger below the knuckle and its pad rounds off
     over up to 1.3 finger widths beyond it, where the usual windows start. The pad tilts
